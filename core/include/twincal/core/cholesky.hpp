@@ -1,0 +1,190 @@
+#pragma once
+/// @file
+/// Cholesky factorization with documented repair policies for covariances that round-off or a
+/// model has pushed out of the positive-definite cone.
+///
+/// Policies (`CholeskyOptions::repair`):
+/// - `none`: a failed factorization throws NotPositiveDefiniteError with the smallest
+///   eigenvalue in the message.
+/// - `jitter`: add ε·I, ε = jitter_initial · s with s the mean |diagonal|, growing by
+///   jitter_growth up to jitter_attempts times; the ε used is reported.
+/// - `nearest_pd`: replace P by the nearest symmetric positive-definite matrix in the
+///   Frobenius norm (Higham 1988), i.e. clip its eigenvalues at
+///   eigenvalue_floor · λ_max; the number of clipped eigenvalues is reported.
+/// Only the lower triangle of the input is read (as Eigen's LLT does): filters that leave P
+/// slightly asymmetric factor what they would factor anyway.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+#include "twincal/core/cholesky_factor.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/validate.hpp"
+
+namespace twincal {
+
+/// What to do when a matrix to factor is not numerically positive definite.
+enum class CovarianceRepair {
+  none,        ///< throw NotPositiveDefiniteError
+  jitter,      ///< add a growing multiple of the identity
+  nearest_pd,  ///< clip eigenvalues (nearest SPD matrix in the Frobenius norm)
+};
+
+[[nodiscard]] constexpr std::string_view to_string(CovarianceRepair repair) noexcept {
+  switch (repair) {
+    case CovarianceRepair::none: return "none";
+    case CovarianceRepair::jitter: return "jitter";
+    case CovarianceRepair::nearest_pd: return "nearest_pd";
+  }
+  return "unknown";
+}
+
+struct CholeskyOptions {
+  CovarianceRepair repair = CovarianceRepair::none;
+  double jitter_initial = 1e-12;  ///< first ε relative to the mean |diagonal|
+  double jitter_growth = 10.0;    ///< factor between successive ε
+  int jitter_attempts = 10;       ///< how many ε to try before giving up
+  double eigenvalue_floor = 1e-12;  ///< nearest_pd: smallest kept eigenvalue relative to λ_max
+
+  [[nodiscard]] std::optional<std::string> validate() const {
+    if (!(jitter_initial > 0.0) || !std::isfinite(jitter_initial)) {
+      return fmt::format("jitter_initial is {}; it must be finite and > 0", jitter_initial);
+    }
+    if (!(jitter_growth > 1.0) || !std::isfinite(jitter_growth)) {
+      return fmt::format("jitter_growth is {}; it must be finite and > 1", jitter_growth);
+    }
+    if (jitter_attempts < 1) {
+      return fmt::format("jitter_attempts is {}; it must be >= 1", jitter_attempts);
+    }
+    if (!(eigenvalue_floor > 0.0 && eigenvalue_floor < 1.0)) {
+      return fmt::format("eigenvalue_floor is {}; it must lie in (0, 1)", eigenvalue_floor);
+    }
+    return std::nullopt;
+  }
+};
+
+/// What a factorization had to do to succeed.
+struct CholeskyReport {
+  CovarianceRepair applied = CovarianceRepair::none;  ///< `none` when P factored as given
+  double jitter = 0.0;                ///< ε added to the diagonal (jitter policy)
+  Index clipped_eigenvalues = 0;      ///< eigenvalues raised to the floor (nearest_pd policy)
+  double smallest_eigenvalue = std::numeric_limits<double>::quiet_NaN();
+  ///< of the input, computed only when a repair was needed
+
+  [[nodiscard]] bool repaired() const noexcept { return applied != CovarianceRepair::none; }
+};
+
+template <int N>
+struct CholeskyResult {
+  CholeskyFactor<N> factor;
+  CholeskyReport report;
+};
+
+namespace detail {
+
+template <int N>
+[[nodiscard]] bool try_llt(const SquareMatrix<N>& m, SquareMatrix<N>& lower) {
+  const Eigen::LLT<SquareMatrix<N>, Eigen::Lower> llt(m);
+  if (llt.info() != Eigen::Success) return false;
+  lower = llt.matrixL();
+  // LLT accepts tiny positive pivots that underflow to a zero diagonal in L.
+  return (lower.diagonal().array() > 0.0).all();
+}
+
+[[noreturn]] inline void throw_not_pd(std::string_view name, double lambda_min,
+                                      std::string_view detail) {
+  throw NotPositiveDefiniteError(
+      std::string(name),
+      fmt::format("{}: Cholesky factorization failed{}: smallest eigenvalue is {:.6g}; rule: "
+                  "must be positive definite",
+                  name, detail, lambda_min),
+      lambda_min);
+}
+
+}  // namespace detail
+
+/// Factors the symmetric matrix whose lower triangle is `m` as L Lᵀ, repairing it per
+/// `options` when needed. No allocation for fixed sizes when no repair is needed.
+/// @throws DimensionMismatchError (not square), NonFiniteError, InvalidArgumentError (options),
+///         NotPositiveDefiniteError (not PD and the policy could not or may not repair it).
+template <typename Derived>
+[[nodiscard]] CholeskyResult<Derived::RowsAtCompileTime> cholesky(
+    const Eigen::MatrixBase<Derived>& m, const CholeskyOptions& options = {},
+    std::string_view name = "matrix") {
+  constexpr int N = Derived::RowsAtCompileTime;
+  using Square = SquareMatrix<N>;
+  require_valid("CholeskyOptions", options);
+  require_square(name, m);
+  require_finite(name, m);
+
+  const Square input = m.template selfadjointView<Eigen::Lower>();
+  Square lower(input.rows(), input.cols());
+  if (detail::try_llt<N>(input, lower)) return {CholeskyFactor<N>(lower), CholeskyReport{}};
+
+  const Eigen::SelfAdjointEigenSolver<Square> eigen(input);
+  CholeskyReport report;
+  report.smallest_eigenvalue = eigen.eigenvalues().minCoeff();
+
+  switch (options.repair) {
+    case CovarianceRepair::none:
+      detail::throw_not_pd(name, report.smallest_eigenvalue, " (repair policy: none)");
+
+    case CovarianceRepair::jitter: {
+      const double diagonal_scale = std::max(input.diagonal().cwiseAbs().mean(),
+                                             std::numeric_limits<double>::min());
+      double epsilon = options.jitter_initial * diagonal_scale;
+      for (int attempt = 0; attempt < options.jitter_attempts; ++attempt) {
+        Square shifted = input;
+        shifted.diagonal().array() += epsilon;
+        if (detail::try_llt<N>(shifted, lower)) {
+          report.applied = CovarianceRepair::jitter;
+          report.jitter = epsilon;
+          return {CholeskyFactor<N>(lower), report};
+        }
+        epsilon *= options.jitter_growth;
+      }
+      detail::throw_not_pd(
+          name, report.smallest_eigenvalue,
+          fmt::format(" after {} jitter attempts up to {:.3g}", options.jitter_attempts,
+                      epsilon / options.jitter_growth));
+    }
+
+    case CovarianceRepair::nearest_pd: {
+      const double lambda_max = eigen.eigenvalues().maxCoeff();
+      if (!(lambda_max > 0.0)) {
+        detail::throw_not_pd(name, report.smallest_eigenvalue,
+                             " (nearest_pd needs a positive largest eigenvalue)");
+      }
+      const double floor = options.eigenvalue_floor * lambda_max;
+      Vector<N> clipped = eigen.eigenvalues();
+      for (Index i = 0; i < clipped.size(); ++i) {
+        if (clipped(i) < floor) {
+          clipped(i) = floor;
+          ++report.clipped_eigenvalues;
+        }
+      }
+      const Square repaired =
+          eigen.eigenvectors() * clipped.asDiagonal() * eigen.eigenvectors().transpose();
+      if (!detail::try_llt<N>(repaired, lower)) {
+        detail::throw_not_pd(name, report.smallest_eigenvalue,
+                             " (still not positive definite after clipping eigenvalues)");
+      }
+      report.applied = CovarianceRepair::nearest_pd;
+      return {CholeskyFactor<N>(lower), report};
+    }
+  }
+  detail::throw_not_pd(name, report.smallest_eigenvalue, " (unknown repair policy)");
+}
+
+}  // namespace twincal

@@ -1,0 +1,131 @@
+#pragma once
+/// @file
+/// `CholeskyFactor<N>`: the lower-triangular square root L of a covariance P = L Lᵀ, the type
+/// filters pass around when they need √P (sigma points, square-root filtering).
+
+#include <cmath>
+#include <string_view>
+
+#include <Eigen/Core>
+#include <fmt/format.h>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/validate.hpp"
+
+namespace twincal {
+
+/// Lower-triangular L with a positive diagonal, so that L Lᵀ is positive definite.
+/// Invariant checked on construction and kept by every operation (a failing operation throws
+/// and leaves the factor unchanged).
+template <int N>
+class CholeskyFactor {
+ public:
+  using MatrixType = SquareMatrix<N>;
+  using VectorType = Vector<N>;
+
+  /// Takes the lower triangle of `lower` (the strict upper part must be zero).
+  /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError (upper part not zero),
+  ///         NotPositiveDefiniteError (a diagonal entry is not > 0).
+  explicit CholeskyFactor(const MatrixType& lower) : lower_(lower) { check_invariant("L"); }
+
+  /// Dimension n of the factored n × n covariance.
+  [[nodiscard]] Index dimension() const noexcept { return lower_.rows(); }
+
+  /// The lower-triangular factor L.
+  [[nodiscard]] const MatrixType& lower() const noexcept { return lower_; }
+
+  /// The covariance L Lᵀ.
+  [[nodiscard]] MatrixType covariance() const {
+    MatrixType p = lower_ * lower_.transpose();
+    return p;
+  }
+
+  /// log det(L Lᵀ) = 2 Σ log L_ii, stable where det itself would underflow.
+  [[nodiscard]] double log_determinant() const {
+    return 2.0 * lower_.diagonal().array().log().sum();
+  }
+
+  /// Solves (L Lᵀ) x = b.
+  template <typename Derived>
+  [[nodiscard]] typename Derived::PlainObject solve(const Eigen::MatrixBase<Derived>& b) const {
+    require_dimension("b", b.rows(), dimension(), "rows");
+    typename Derived::PlainObject x(b);
+    lower_.template triangularView<Eigen::Lower>().solveInPlace(x);
+    lower_.transpose().template triangularView<Eigen::Upper>().solveInPlace(x);
+    return x;
+  }
+
+  /// Rank-one update (σ > 0) or downdate (σ < 0): after the call L Lᵀ = old L Lᵀ + σ v vᵀ.
+  /// O(n²), no allocation for fixed N.
+  /// @throws NotPositiveDefiniteError when a downdate would leave the matrix not positive
+  ///         definite; the factor is then unchanged.
+  template <typename Derived>
+  void rank_one_update(const Eigen::MatrixBase<Derived>& v, double sigma) {
+    require_dimension("v", v.size(), dimension());
+    require_finite("v", v);
+    require_finite("sigma", sigma);
+    if (sigma == 0.0) return;
+    const double sign = sigma > 0.0 ? 1.0 : -1.0;
+    VectorType x = std::sqrt(std::abs(sigma)) * v;
+    MatrixType updated = lower_;
+    const Index n = dimension();
+    for (Index k = 0; k < n; ++k) {
+      const double lkk = updated(k, k);
+      const double radicand = lkk * lkk + sign * x(k) * x(k);
+      if (!(radicand > 0.0)) {
+        // Failure path only: the eigenvalue tells the caller how far from definite it got.
+        const MatrixType target = covariance() + sigma * (v * v.transpose());
+        const double lambda_min = smallest_eigenvalue(target);
+        throw NotPositiveDefiniteError(
+            "L",
+            fmt::format("L: rank-one downdate by sigma = {:.6g} fails at column {}: L Lᵀ + "
+                        "sigma v vᵀ has smallest eigenvalue {:.6g}; rule: the result must stay "
+                        "positive definite",
+                        sigma, k, lambda_min),
+            lambda_min);
+      }
+      const double r = std::sqrt(radicand);
+      const double c = r / lkk;
+      const double s = x(k) / lkk;
+      updated(k, k) = r;
+      const Index tail = n - k - 1;
+      if (tail == 0) break;
+      updated.col(k).tail(tail) = (updated.col(k).tail(tail) + sign * s * x.tail(tail)) / c;
+      x.tail(tail) = c * x.tail(tail) - s * updated.col(k).tail(tail);
+    }
+    lower_ = updated;
+  }
+
+ private:
+  void check_invariant(std::string_view name) const {
+    require_square(name, lower_);
+    require_finite(name, lower_);
+    const Index n = lower_.rows();
+    for (Index c = 1; c < n; ++c) {
+      for (Index r = 0; r < c; ++r) {
+        if (lower_(r, c) != 0.0) {
+          throw InvalidArgumentError(
+              std::string(name),
+              fmt::format("{}: entry ({}, {}) above the diagonal is {}; rule: a Cholesky "
+                          "factor is lower triangular",
+                          name, r, c, lower_(r, c)));
+        }
+      }
+    }
+    for (Index k = 0; k < n; ++k) {
+      if (!(lower_(k, k) > 0.0)) {
+        throw NotPositiveDefiniteError(
+            std::string(name),
+            fmt::format("{}: diagonal entry {} is {}; rule: a Cholesky factor has a positive "
+                        "diagonal",
+                        name, k, lower_(k, k)),
+            lower_(k, k));
+      }
+    }
+  }
+
+  MatrixType lower_;
+};
+
+}  // namespace twincal

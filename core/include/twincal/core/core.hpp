@@ -1,0 +1,16 @@
+#pragma once
+/// @file
+/// The whole core module.
+
+#include "twincal/core/cholesky.hpp"
+#include "twincal/core/cholesky_factor.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/evaluation_counter.hpp"
+#include "twincal/core/format.hpp"
+#include "twincal/core/gaussian.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/random_stream.hpp"
+#include "twincal/core/stopwatch.hpp"
+#include "twincal/core/symmetrize.hpp"
+#include "twincal/core/validate.hpp"

@@ -1,0 +1,67 @@
+#pragma once
+/// @file
+/// twincal's error types. Every error names the argument (or quantity) at fault, the offending
+/// value and the rule it broke, so a message read in a log is enough to find the cause. Errors
+/// are thrown before any state changes (strong exception guarantee) unless documented otherwise.
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace twincal {
+
+/// Base of every error twincal throws; `argument()` names the value at fault.
+class Error : public std::runtime_error {
+ public:
+  Error(std::string argument, const std::string& message)
+      : std::runtime_error(message), argument_(std::move(argument)) {}
+
+  /// Name of the argument, option or quantity that broke a rule (e.g. "P", "options.alpha").
+  [[nodiscard]] const std::string& argument() const noexcept { return argument_; }
+
+ private:
+  std::string argument_;
+};
+
+/// A value broke a documented rule (range, sign, option consistency).
+class InvalidArgumentError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Sizes of vectors or matrices do not agree.
+class DimensionMismatchError : public InvalidArgumentError {
+ public:
+  DimensionMismatchError(std::string argument, const std::string& message, long long actual,
+                         long long expected)
+      : InvalidArgumentError(std::move(argument), message), actual_(actual), expected_(expected) {}
+
+  [[nodiscard]] long long actual() const noexcept { return actual_; }
+  [[nodiscard]] long long expected() const noexcept { return expected_; }
+
+ private:
+  long long actual_;
+  long long expected_;
+};
+
+/// A NaN or infinity where only finite numbers are allowed (input, twin output, filter state).
+class NonFiniteError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A matrix that must be symmetric positive (semi-)definite is not. Carries the smallest
+/// eigenvalue of its symmetric part, the number that tells how far it is from the rule.
+class NotPositiveDefiniteError : public Error {
+ public:
+  NotPositiveDefiniteError(std::string argument, const std::string& message,
+                           double smallest_eigenvalue)
+      : Error(std::move(argument), message), smallest_eigenvalue_(smallest_eigenvalue) {}
+
+  [[nodiscard]] double smallest_eigenvalue() const noexcept { return smallest_eigenvalue_; }
+
+ private:
+  double smallest_eigenvalue_;
+};
+
+}  // namespace twincal

@@ -1,0 +1,169 @@
+#pragma once
+/// @file
+/// Argument checks that throw twincal's typed errors. Each message names the argument, the
+/// offending value and the rule, e.g.
+/// "P: entry (1, 0) is nan; rule: every entry must be finite".
+/// The checks read their inputs only, so a caller that validates before mutating keeps the
+/// strong exception guarantee.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <string_view>
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/format.hpp"
+
+namespace twincal {
+
+/// Throws NonFiniteError unless `value` is finite.
+inline void require_finite(std::string_view name, double value) {
+  if (!std::isfinite(value)) {
+    throw NonFiniteError(std::string(name),
+                         fmt::format("{}: value is {}; rule: must be finite", name, value));
+  }
+}
+
+/// Throws NonFiniteError naming the first non-finite entry (row, column) of `x`.
+template <typename Derived>
+void require_finite(std::string_view name, const Eigen::DenseBase<Derived>& x) {
+  if (x.allFinite()) return;
+  for (Index c = 0; c < x.cols(); ++c) {
+    for (Index r = 0; r < x.rows(); ++r) {
+      const double value = x(r, c);
+      if (std::isfinite(value)) continue;
+      const std::string where =
+          x.cols() == 1 ? fmt::format("entry {}", r) : fmt::format("entry ({}, {})", r, c);
+      throw NonFiniteError(std::string(name),
+                           fmt::format("{}: {} is {}; rule: every entry must be finite", name,
+                                       where, value));
+    }
+  }
+}
+
+/// Throws DimensionMismatchError unless `actual == expected`; `what` says which size
+/// ("size", "rows", "columns").
+inline void require_dimension(std::string_view name, Index actual, Index expected,
+                              std::string_view what = "size") {
+  if (actual == expected) return;
+  throw DimensionMismatchError(
+      std::string(name),
+      fmt::format("{}: {} is {}; rule: must equal {}", name, what, actual, expected), actual,
+      expected);
+}
+
+/// Throws DimensionMismatchError unless `m` is square.
+template <typename Derived>
+void require_square(std::string_view name, const Eigen::EigenBase<Derived>& m) {
+  if (m.rows() == m.cols()) return;
+  throw DimensionMismatchError(
+      std::string(name),
+      fmt::format("{}: is {}x{}; rule: must be square", name, m.rows(), m.cols()), m.cols(),
+      m.rows());
+}
+
+/// Throws DimensionMismatchError unless `m` is `rows` × `cols`.
+template <typename Derived>
+void require_shape(std::string_view name, const Eigen::EigenBase<Derived>& m, Index rows,
+                   Index cols) {
+  if (m.rows() == rows && m.cols() == cols) return;
+  throw DimensionMismatchError(
+      std::string(name),
+      fmt::format("{}: is {}x{}; rule: must be {}x{}", name, m.rows(), m.cols(), rows, cols),
+      m.rows() * m.cols(), rows * cols);
+}
+
+/// Throws InvalidArgumentError unless `value > 0` (NaN fails).
+inline void require_positive(std::string_view name, double value) {
+  if (value > 0.0) return;
+  throw InvalidArgumentError(std::string(name),
+                             fmt::format("{}: value is {}; rule: must be > 0", name, value));
+}
+
+/// Throws InvalidArgumentError unless `value >= 0` (NaN fails).
+inline void require_non_negative(std::string_view name, double value) {
+  if (value >= 0.0) return;
+  throw InvalidArgumentError(std::string(name),
+                             fmt::format("{}: value is {}; rule: must be >= 0", name, value));
+}
+
+/// Throws InvalidArgumentError unless `low <= value <= high` (NaN fails).
+inline void require_in_range(std::string_view name, double value, double low, double high) {
+  if (value >= low && value <= high) return;
+  throw InvalidArgumentError(
+      std::string(name),
+      fmt::format("{}: value is {}; rule: must lie in [{}, {}]", name, value, low, high));
+}
+
+/// Largest |m(i,j) − m(j,i)| relative to the largest |m(i,j)| (0 for a zero matrix).
+template <typename Derived>
+[[nodiscard]] double relative_asymmetry(const Eigen::MatrixBase<Derived>& m) {
+  const double scale = m.cwiseAbs().maxCoeff();
+  if (scale == 0.0) return 0.0;
+  return (m - m.transpose()).cwiseAbs().maxCoeff() / scale;
+}
+
+/// Throws InvalidArgumentError unless `m` is square and symmetric to `tolerance` (relative to
+/// its largest entry). Finite entries are checked first.
+template <typename Derived>
+void require_symmetric(std::string_view name, const Eigen::MatrixBase<Derived>& m,
+                       double tolerance = 1e-12) {
+  require_square(name, m);
+  require_finite(name, m);
+  const double asymmetry = relative_asymmetry(m);
+  if (asymmetry <= tolerance) return;
+  throw InvalidArgumentError(
+      std::string(name),
+      fmt::format("{}: relative asymmetry max|m - mᵀ|/max|m| is {:.3g}; rule: must be "
+                  "symmetric to {:.3g}",
+                  name, asymmetry, tolerance));
+}
+
+/// Smallest and largest eigenvalue of the symmetric part (m + mᵀ)/2.
+template <typename Derived>
+[[nodiscard]] std::pair<double, double> eigenvalue_range(const Eigen::MatrixBase<Derived>& m) {
+  using Plain = typename Derived::PlainObject;
+  const Plain symmetric = 0.5 * (m + m.transpose());
+  const Eigen::SelfAdjointEigenSolver<Plain> solver(symmetric, Eigen::EigenvaluesOnly);
+  return {solver.eigenvalues().minCoeff(), solver.eigenvalues().maxCoeff()};
+}
+
+/// Smallest eigenvalue of the symmetric part (m + mᵀ)/2.
+template <typename Derived>
+[[nodiscard]] double smallest_eigenvalue(const Eigen::MatrixBase<Derived>& m) {
+  return eigenvalue_range(m).first;
+}
+
+/// Throws NotPositiveDefiniteError unless the symmetric matrix `m` has all eigenvalues
+/// > 0 (`allow_semidefinite = false`) or >= 0 (`true`). A semi-definite matrix computed in
+/// floating point has zero eigenvalues that come out as ±(round-off), so the semi-definite rule
+/// accepts eigenvalues down to −16·n·ε·max|λ|. Checks shape, finiteness and symmetry first, each
+/// with its own error.
+template <typename Derived>
+void require_positive_definite(std::string_view name, const Eigen::MatrixBase<Derived>& m,
+                               bool allow_semidefinite = false,
+                               double symmetry_tolerance = 1e-12) {
+  require_symmetric(name, m, symmetry_tolerance);
+  if (m.rows() == 0) return;
+  const auto [lambda_min, lambda_max] = eigenvalue_range(m);
+  const double round_off = 16.0 * static_cast<double>(m.rows()) *
+                           std::numeric_limits<double>::epsilon() *
+                           std::max(std::abs(lambda_min), std::abs(lambda_max));
+  const bool ok = allow_semidefinite ? lambda_min >= -round_off : lambda_min > 0.0;
+  if (ok) return;
+  throw NotPositiveDefiniteError(
+      std::string(name),
+      fmt::format("{}: smallest eigenvalue is {:.6g}; rule: must be positive {}definite "
+                  "(all eigenvalues {} 0)",
+                  name, lambda_min, allow_semidefinite ? "semi-" : "",
+                  allow_semidefinite ? ">=" : ">"),
+      lambda_min);
+}
+
+}  // namespace twincal

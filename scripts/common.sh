@@ -1,0 +1,47 @@
+# Shared by scripts/run.sh and scripts/test.sh: install what is missing, configure, build.
+# Sourced, not run. Everything here is idempotent and quick when nothing changed.
+
+TWINCAL_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+TWINCAL_JOBS="${TWINCAL_JOBS:-$(nproc 2>/dev/null || echo 2)}"
+
+twincal_log() { printf '\033[1m[twincal]\033[0m %s\n' "$*" >&2; }
+
+# Installs the Debian packages of scripts/debian-packages.txt that are not installed yet.
+twincal_install_dependencies() {
+  local wanted missing=()
+  mapfile -t wanted < <(grep -Ev '^\s*(#|$)' "$TWINCAL_ROOT/scripts/debian-packages.txt")
+  for package in "${wanted[@]}"; do
+    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q 'install ok installed' \
+      || missing+=("$package")
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    return 0
+  fi
+  local sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { twincal_log "need root or sudo to install: ${missing[*]}"; return 1; }
+    sudo=(sudo)
+  fi
+  twincal_log "installing ${missing[*]}"
+  "${sudo[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
+    "${missing[@]}" >/dev/null
+}
+
+# twincal_build <build-dir> [cmake -D options...]: configures once, then builds incrementally.
+twincal_build() {
+  local build_dir="$1"
+  shift
+  local launcher=()
+  if command -v ccache >/dev/null; then
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  fi
+  if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+    twincal_log "configuring $build_dir"
+    cmake -S "$TWINCAL_ROOT" -B "$build_dir" -G Ninja "${launcher[@]}" "$@" >/dev/null
+  else
+    cmake "$build_dir" "$@" >/dev/null
+  fi
+  twincal_log "building $build_dir with $TWINCAL_JOBS jobs"
+  cmake --build "$build_dir" --parallel "$TWINCAL_JOBS"
+}

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Install what is missing, build, and run the whole test suite (ctest).
+#   ./scripts/test.sh                       release build in build/
+#   ./scripts/test.sh --sanitizers address,undefined
+#                                           instrumented build in build-sanitizers/ (tests only)
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+build_dir="$TWINCAL_ROOT/build"
+options=(-DCMAKE_BUILD_TYPE=Release)
+if [ "${1:-}" = "--sanitizers" ]; then
+  [ -n "${2:-}" ] || { twincal_log "--sanitizers needs a list, e.g. address,undefined"; exit 2; }
+  build_dir="$TWINCAL_ROOT/build-sanitizers"
+  # -O1 keeps the instrumented suite fast; Eigen's assertions stay on (no NDEBUG).
+  options=(-DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-g -O1"
+           "-DTWINCAL_SANITIZERS=${2//,/;}" -DTWINCAL_BUILD_BENCHMARKS=OFF
+           -DTWINCAL_BUILD_EXAMPLES=OFF -DTWINCAL_BUILD_APPS=OFF)
+elif [ $# -gt 0 ]; then
+  twincal_log "unknown argument '$1' (usage: scripts/test.sh [--sanitizers LIST])"
+  exit 2
+fi
+
+twincal_install_dependencies
+twincal_build "$build_dir" "${options[@]}"
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+ctest --test-dir "$build_dir" --output-on-failure --parallel "$TWINCAL_JOBS"

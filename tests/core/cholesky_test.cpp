@@ -1,0 +1,134 @@
+#include "twincal/core/cholesky.hpp"
+
+#include <limits>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace twincal {
+namespace {
+
+using ::testing::HasSubstr;
+
+Eigen::Matrix3d spd_matrix() {
+  Eigen::Matrix3d a;
+  a << 4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 2.0;
+  return a;
+}
+
+// Rank-deficient (eigenvalues 0, 0, 3) plus a small negative perturbation: not PD.
+Eigen::Matrix3d indefinite_matrix() {
+  const Eigen::Vector3d ones = Eigen::Vector3d::Ones();
+  Eigen::Matrix3d m = ones * ones.transpose();
+  m.diagonal().array() -= 1e-9;
+  return m;
+}
+
+TEST(Cholesky, FactorsSpdMatrixWithoutRepair) {
+  const CholeskyResult<3> result = cholesky(spd_matrix());
+  EXPECT_FALSE(result.report.repaired());
+  EXPECT_TRUE(result.factor.covariance().isApprox(spd_matrix(), 1e-14));
+  EXPECT_TRUE(std::isnan(result.report.smallest_eigenvalue));
+}
+
+TEST(Cholesky, WorksForDynamicSize) {
+  const Eigen::MatrixXd m = spd_matrix();
+  const CholeskyResult<Dynamic> result = cholesky(m);
+  EXPECT_EQ(result.factor.dimension(), 3);
+  EXPECT_TRUE(result.factor.covariance().isApprox(m, 1e-14));
+}
+
+TEST(Cholesky, ReadsOnlyTheLowerTriangle) {
+  Eigen::Matrix3d m = spd_matrix();
+  m(0, 2) = 1e3;  // garbage above the diagonal is ignored, as in Eigen's LLT
+  EXPECT_TRUE(cholesky(m).factor.covariance().isApprox(spd_matrix(), 1e-14));
+}
+
+TEST(Cholesky, PolicyNoneThrowsWithSmallestEigenvalue) {
+  try {
+    (void)cholesky(indefinite_matrix(), {}, "P_prior");
+    FAIL() << "expected NotPositiveDefiniteError";
+  } catch (const NotPositiveDefiniteError& e) {
+    EXPECT_EQ(e.argument(), "P_prior");
+    EXPECT_NEAR(e.smallest_eigenvalue(), -1e-9, 1e-12);
+    EXPECT_THAT(e.what(), HasSubstr("P_prior: Cholesky factorization failed (repair policy: "
+                                    "none): smallest eigenvalue is -1e-09"));
+    EXPECT_THAT(e.what(), HasSubstr("rule: must be positive definite"));
+  }
+}
+
+TEST(Cholesky, JitterRepairsAndReportsTheShift) {
+  const CholeskyOptions options{.repair = CovarianceRepair::jitter};
+  const CholeskyResult<3> result = cholesky(indefinite_matrix(), options);
+  EXPECT_EQ(result.report.applied, CovarianceRepair::jitter);
+  EXPECT_GT(result.report.jitter, 1e-9);  // it had to lift the -1e-9 eigenvalue
+  EXPECT_LT(result.report.jitter, 1e-6);  // and stopped at the first ε that did
+  const Eigen::Matrix3d expected =
+      indefinite_matrix() + result.report.jitter * Eigen::Matrix3d::Identity();
+  EXPECT_TRUE(result.factor.covariance().isApprox(expected, 1e-12));
+}
+
+TEST(Cholesky, JitterGivesUpAfterTheConfiguredAttempts) {
+  const CholeskyOptions options{
+      .repair = CovarianceRepair::jitter, .jitter_initial = 1e-16, .jitter_attempts = 2};
+  Eigen::Matrix2d m = -Eigen::Matrix2d::Identity();
+  try {
+    (void)cholesky(m, options, "P");
+    FAIL() << "expected NotPositiveDefiniteError";
+  } catch (const NotPositiveDefiniteError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("P: Cholesky factorization failed after 2 jitter attempts "
+                                    "up to 1e-15: smallest eigenvalue is -1"));
+  }
+}
+
+TEST(Cholesky, NearestPdClipsNegativeEigenvalues) {
+  const CholeskyOptions options{.repair = CovarianceRepair::nearest_pd};
+  const CholeskyResult<3> result = cholesky(indefinite_matrix(), options);
+  EXPECT_EQ(result.report.applied, CovarianceRepair::nearest_pd);
+  EXPECT_EQ(result.report.clipped_eigenvalues, 2);
+  EXPECT_NEAR(result.report.smallest_eigenvalue, -1e-9, 1e-12);
+  // The nearest PSD matrix of ones·onesᵀ − 1e-9 I keeps the eigenvalue 3 − 1e-9 along ones.
+  const Eigen::Vector3d ones = Eigen::Vector3d::Ones();
+  const Eigen::Matrix3d expected = (3.0 - 1e-9) / 3.0 * ones * ones.transpose();
+  EXPECT_TRUE(result.factor.covariance().isApprox(expected, 1e-9));
+}
+
+TEST(Cholesky, NearestPdRefusesANegativeDefiniteMatrix) {
+  const CholeskyOptions options{.repair = CovarianceRepair::nearest_pd};
+  EXPECT_THAT(
+      [&] { (void)cholesky(Eigen::Matrix2d(-Eigen::Matrix2d::Identity()), options, "P"); },
+      ::testing::ThrowsMessage<NotPositiveDefiniteError>(
+          HasSubstr("(nearest_pd needs a positive largest eigenvalue)")));
+}
+
+TEST(Cholesky, RejectsNonFiniteAndNonSquareInputWhateverThePolicy) {
+  Eigen::Matrix2d m = Eigen::Matrix2d::Identity();
+  m(1, 1) = std::numeric_limits<double>::quiet_NaN();
+  const CholeskyOptions repair{.repair = CovarianceRepair::nearest_pd};
+  EXPECT_THROW((void)cholesky(m, repair, "P"), NonFiniteError);
+  EXPECT_THROW((void)cholesky(Eigen::MatrixXd::Identity(2, 3), repair, "P"),
+               DimensionMismatchError);
+}
+
+TEST(CholeskyOptions, ValidateNamesTheField) {
+  EXPECT_EQ(CholeskyOptions{}.validate(), std::nullopt);
+  EXPECT_EQ(CholeskyOptions{.jitter_initial = 0.0}.validate(),
+            "jitter_initial is 0; it must be finite and > 0");
+  EXPECT_EQ(CholeskyOptions{.jitter_growth = 1.0}.validate(),
+            "jitter_growth is 1; it must be finite and > 1");
+  EXPECT_EQ(CholeskyOptions{.jitter_attempts = 0}.validate(), "jitter_attempts is 0; it must be >= 1");
+  EXPECT_EQ(CholeskyOptions{.eigenvalue_floor = 1.0}.validate(),
+            "eigenvalue_floor is 1; it must lie in (0, 1)");
+  EXPECT_THAT([] { (void)cholesky(Eigen::Matrix2d::Identity(), {.jitter_attempts = 0}); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "CholeskyOptions: jitter_attempts is 0; it must be >= 1"));
+}
+
+TEST(CovarianceRepair, HasReadableNames) {
+  EXPECT_EQ(to_string(CovarianceRepair::none), "none");
+  EXPECT_EQ(to_string(CovarianceRepair::jitter), "jitter");
+  EXPECT_EQ(to_string(CovarianceRepair::nearest_pd), "nearest_pd");
+}
+
+}  // namespace
+}  // namespace twincal

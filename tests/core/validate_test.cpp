@@ -1,0 +1,151 @@
+#include "twincal/core/validate.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace twincal {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// Runs `f`, expects an exception of type E, and returns its message for assertions.
+template <typename E, typename F>
+std::string message_of(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no exception of the expected type";
+  return {};
+}
+
+TEST(RequireFinite, AcceptsFiniteScalarsAndMatrices) {
+  EXPECT_NO_THROW(require_finite("x", 1.5));
+  EXPECT_NO_THROW(require_finite("v", Eigen::Vector3d(1, 2, 3)));
+  EXPECT_NO_THROW(require_finite("m", Eigen::Matrix2d::Identity()));
+}
+
+TEST(RequireFinite, ScalarMessageNamesArgumentValueAndRule) {
+  const std::string message = message_of<NonFiniteError>([] { require_finite("sigma_z", nan); });
+  EXPECT_EQ(message, "sigma_z: value is nan; rule: must be finite");
+}
+
+TEST(RequireFinite, VectorMessageNamesEntry) {
+  const Eigen::Vector3d v(1.0, inf, 3.0);
+  EXPECT_EQ(message_of<NonFiniteError>([&] { require_finite("u", v); }),
+            "u: entry 1 is inf; rule: every entry must be finite");
+}
+
+TEST(RequireFinite, MatrixMessageNamesRowAndColumn) {
+  Eigen::Matrix2d m = Eigen::Matrix2d::Identity();
+  m(1, 0) = -inf;
+  try {
+    require_finite("P", m);
+    FAIL() << "expected NonFiniteError";
+  } catch (const NonFiniteError& e) {
+    EXPECT_EQ(std::string(e.what()), "P: entry (1, 0) is -inf; rule: every entry must be finite");
+    EXPECT_EQ(e.argument(), "P");
+  }
+}
+
+TEST(RequireDimension, ReportsActualAndExpected) {
+  EXPECT_NO_THROW(require_dimension("u", 3, 3));
+  try {
+    require_dimension("u", 2, 3);
+    FAIL() << "expected DimensionMismatchError";
+  } catch (const DimensionMismatchError& e) {
+    EXPECT_EQ(std::string(e.what()), "u: size is 2; rule: must equal 3");
+    EXPECT_EQ(e.actual(), 2);
+    EXPECT_EQ(e.expected(), 3);
+  }
+  EXPECT_EQ(message_of<DimensionMismatchError>([] { require_dimension("H", 4, 3, "rows"); }),
+            "H: rows is 4; rule: must equal 3");
+}
+
+TEST(RequireSquareAndShape, NameTheShape) {
+  EXPECT_NO_THROW(require_square("P", Eigen::Matrix3d::Zero()));
+  EXPECT_EQ(message_of<DimensionMismatchError>(
+                [] { require_square("P", Eigen::MatrixXd::Zero(2, 3)); }),
+            "P: is 2x3; rule: must be square");
+  EXPECT_NO_THROW(require_shape("K", Eigen::MatrixXd::Zero(3, 1), 3, 1));
+  EXPECT_EQ(message_of<DimensionMismatchError>(
+                [] { require_shape("K", Eigen::MatrixXd::Zero(2, 1), 3, 1); }),
+            "K: is 2x1; rule: must be 3x1");
+}
+
+TEST(RequireRanges, PositiveNonNegativeAndInterval) {
+  EXPECT_NO_THROW(require_positive("alpha", 1e-3));
+  EXPECT_EQ(message_of<InvalidArgumentError>([] { require_positive("alpha", 0.0); }),
+            "alpha: value is 0; rule: must be > 0");
+  EXPECT_EQ(message_of<InvalidArgumentError>([] { require_positive("alpha", nan); }),
+            "alpha: value is nan; rule: must be > 0");
+  EXPECT_NO_THROW(require_non_negative("kappa", 0.0));
+  EXPECT_EQ(message_of<InvalidArgumentError>([] { require_non_negative("kappa", -1.0); }),
+            "kappa: value is -1; rule: must be >= 0");
+  EXPECT_NO_THROW(require_in_range("w", 1.0, 0.0, 1.0));
+  EXPECT_EQ(message_of<InvalidArgumentError>([] { require_in_range("w", 1.5, 0.0, 1.0); }),
+            "w: value is 1.5; rule: must lie in [0, 1]");
+}
+
+TEST(RequireSymmetric, ToleranceIsRelative) {
+  Eigen::Matrix2d m;
+  m << 1e6, 2.0, 2.0 + 1e-7, 1e6;  // asymmetry 1e-13 relative: fine
+  EXPECT_NO_THROW(require_symmetric("P", m));
+  m(1, 0) = 3.0;
+  EXPECT_THAT(message_of<InvalidArgumentError>([&] { require_symmetric("P", m); }),
+              HasSubstr("P: relative asymmetry max|m - mᵀ|/max|m| is 1e-06; rule: must be "
+                        "symmetric to 1e-12"));
+  EXPECT_DOUBLE_EQ(relative_asymmetry(Eigen::Matrix2d::Zero()), 0.0);
+}
+
+TEST(RequirePositiveDefinite, AcceptsSpdAndReportsSmallestEigenvalue) {
+  EXPECT_NO_THROW(require_positive_definite("P", Eigen::Matrix2d::Identity()));
+  Eigen::Matrix2d indefinite;
+  indefinite << 1.0, 2.0, 2.0, 1.0;  // eigenvalues 3 and -1
+  try {
+    require_positive_definite("P", indefinite);
+    FAIL() << "expected NotPositiveDefiniteError";
+  } catch (const NotPositiveDefiniteError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "P: smallest eigenvalue is -1; rule: must be positive definite (all eigenvalues > "
+              "0)");
+    EXPECT_NEAR(e.smallest_eigenvalue(), -1.0, 1e-12);
+  }
+}
+
+TEST(RequirePositiveDefinite, SemidefiniteIsAllowedOnRequest) {
+  const Eigen::Matrix2d singular = Eigen::Vector2d(1.0, 1.0) * Eigen::RowVector2d(1.0, 1.0);
+  EXPECT_NO_THROW(require_positive_definite("P", singular, /*allow_semidefinite=*/true));
+  EXPECT_THAT(message_of<NotPositiveDefiniteError>(
+                  [&] { require_positive_definite("P", Eigen::Matrix2d(-singular), true); }),
+              HasSubstr("rule: must be positive semi-definite (all eigenvalues >= 0)"));
+}
+
+TEST(RequirePositiveDefinite, ChecksShapeFinitenessAndSymmetryFirst) {
+  EXPECT_THROW(require_positive_definite("P", Eigen::MatrixXd::Identity(2, 3)),
+               DimensionMismatchError);
+  Eigen::Matrix2d m = Eigen::Matrix2d::Identity();
+  m(0, 0) = nan;
+  EXPECT_THROW(require_positive_definite("P", m), NonFiniteError);
+  m << 1.0, 0.5, 0.0, 1.0;
+  EXPECT_THROW(require_positive_definite("P", m), InvalidArgumentError);
+}
+
+TEST(ErrorHierarchy, AllDeriveFromTwincalErrorAndStdException) {
+  EXPECT_THROW(require_dimension("u", 1, 2), InvalidArgumentError);
+  EXPECT_THROW(require_dimension("u", 1, 2), Error);
+  EXPECT_THROW(require_finite("x", nan), Error);
+  EXPECT_THROW(require_finite("x", nan), std::exception);
+  EXPECT_THROW(require_positive_definite("P", Eigen::Matrix2d(-Eigen::Matrix2d::Identity())),
+               Error);
+}
+
+}  // namespace
+}  // namespace twincal
