@@ -22,7 +22,9 @@ TEST(TraceLoss, SmallerPosteriorMeansSmallerLoss) {
 }
 
 TEST(TraceLoss, RejectsWhatIsNotACovariance) {
-  EXPECT_THROW((void)TraceLoss{}(Eigen::MatrixXd::Zero(2, 3)), DimensionMismatchError);
+  EXPECT_THAT([] { (void)TraceLoss{}(Eigen::MatrixXd::Zero(2, 3)); },
+              ::testing::ThrowsMessage<DimensionMismatchError>(
+                  "posterior_covariance: is 2x3; rule: must be square"));
   EXPECT_THAT([] { (void)TraceLoss{}(Eigen::MatrixXd(0, 0)); },
               ::testing::ThrowsMessage<DimensionMismatchError>(
                   "posterior_covariance: is 0x0; rule: must be at least 1x1"));
@@ -31,7 +33,9 @@ TEST(TraceLoss, RejectsWhatIsNotACovariance) {
                   "trace(posterior_covariance): value is -2; rule: must be >= 0"));
   Eigen::Matrix2d p = Eigen::Matrix2d::Identity();
   p(0, 1) = std::nan("");
-  EXPECT_THROW((void)TraceLoss{}(p), NonFiniteError);
+  EXPECT_THAT([&] { (void)TraceLoss{}(p); },
+              ::testing::ThrowsMessage<NonFiniteError>(
+                  "posterior_covariance: entry (0, 1) is nan; rule: every entry must be finite"));
 }
 
 }  // namespace

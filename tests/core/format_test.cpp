@@ -33,9 +33,7 @@ TEST(Format, ExpressionsAreEvaluated) {
   EXPECT_EQ(fmt::format("{}", a * b.transpose()), "[[0.5, 0.5], [1, 1]]");
 }
 
-TEST(Format, IntegerMatrices) {
-  EXPECT_EQ(fmt::format("{}", Eigen::Vector2i(3, 4)), "[3, 4]");
-}
+TEST(Format, IntegerMatrices) { EXPECT_EQ(fmt::format("{}", Eigen::Vector2i(3, 4)), "[3, 4]"); }
 
 }  // namespace
 }  // namespace twincal

@@ -20,7 +20,9 @@ struct NoValidate {
 static_assert(ValidatableOptions<StepOptions>);
 static_assert(!ValidatableOptions<NoValidate>);
 
-TEST(RequireValid, PassesValidOptions) { EXPECT_NO_THROW(require_valid("StepOptions", StepOptions{})); }
+TEST(RequireValid, PassesValidOptions) {
+  EXPECT_NO_THROW(require_valid("StepOptions", StepOptions{}));
+}
 
 TEST(RequireValid, ThrowsTheSentenceWithTheOptionsName) {
   try {

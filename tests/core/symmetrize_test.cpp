@@ -1,5 +1,6 @@
 #include "twincal/core/symmetrize.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 namespace twincal {
@@ -26,7 +27,8 @@ TEST(Symmetrize, WorksOnBlocksAndDynamicMatrices) {
 
 TEST(Symmetrize, RejectsNonSquare) {
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(2, 3);
-  EXPECT_THROW(symmetrize(m), DimensionMismatchError);
+  EXPECT_THAT([&] { symmetrize(m); },
+              ::testing::ThrowsMessage<DimensionMismatchError>("m: is 2x3; rule: must be square"));
 }
 
 }  // namespace

@@ -20,9 +20,8 @@ struct TraceLoss {
   [[nodiscard]] double operator()(const Eigen::MatrixBase<Derived>& posterior_covariance) const {
     require_square("posterior_covariance", posterior_covariance);
     if (posterior_covariance.rows() == 0) {
-      throw DimensionMismatchError("posterior_covariance",
-                                   "posterior_covariance: is 0x0; rule: must be at least 1x1", 0,
-                                   1);
+      throw DimensionMismatchError(
+          "posterior_covariance", "posterior_covariance: is 0x0; rule: must be at least 1x1", 0, 1);
     }
     require_finite("posterior_covariance", posterior_covariance);
     const double trace = posterior_covariance.trace();

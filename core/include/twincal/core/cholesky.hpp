@@ -21,10 +21,10 @@
 #include <string>
 #include <string_view>
 
+#include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
-#include <fmt/format.h>
 
 #include "twincal/core/cholesky_factor.hpp"
 #include "twincal/core/eigen.hpp"
@@ -43,18 +43,21 @@ enum class CovarianceRepair {
 
 [[nodiscard]] constexpr std::string_view to_string(CovarianceRepair repair) noexcept {
   switch (repair) {
-    case CovarianceRepair::none: return "none";
-    case CovarianceRepair::jitter: return "jitter";
-    case CovarianceRepair::nearest_pd: return "nearest_pd";
+    case CovarianceRepair::none:
+      return "none";
+    case CovarianceRepair::jitter:
+      return "jitter";
+    case CovarianceRepair::nearest_pd:
+      return "nearest_pd";
   }
   return "unknown";
 }
 
 struct CholeskyOptions {
   CovarianceRepair repair = CovarianceRepair::none;
-  double jitter_initial = 1e-12;  ///< first ε relative to the mean |diagonal|
-  double jitter_growth = 10.0;    ///< factor between successive ε
-  int jitter_attempts = 10;       ///< how many ε to try before giving up
+  double jitter_initial = 1e-12;    ///< first ε relative to the mean |diagonal|
+  double jitter_growth = 10.0;      ///< factor between successive ε
+  int jitter_attempts = 10;         ///< how many ε to try before giving up
   double eigenvalue_floor = 1e-12;  ///< nearest_pd: smallest kept eigenvalue relative to λ_max
 
   [[nodiscard]] std::optional<std::string> validate() const {
@@ -77,10 +80,10 @@ struct CholeskyOptions {
 /// What a factorization had to do to succeed.
 struct CholeskyReport {
   CovarianceRepair applied = CovarianceRepair::none;  ///< `none` when P factored as given
-  double jitter = 0.0;                ///< ε added to the diagonal (jitter policy)
-  Index clipped_eigenvalues = 0;      ///< eigenvalues raised to the floor (nearest_pd policy)
+  double jitter = 0.0;                                ///< ε added to the diagonal (jitter policy)
+  Index clipped_eigenvalues = 0;  ///< eigenvalues raised to the floor (nearest_pd policy)
+  /// Smallest eigenvalue of the input, computed only when a repair was needed (NaN otherwise).
   double smallest_eigenvalue = std::numeric_limits<double>::quiet_NaN();
-  ///< of the input, computed only when a repair was needed
 
   [[nodiscard]] bool repaired() const noexcept { return applied != CovarianceRepair::none; }
 };
@@ -141,8 +144,8 @@ template <typename Derived>
       detail::throw_not_pd(name, report.smallest_eigenvalue, " (repair policy: none)");
 
     case CovarianceRepair::jitter: {
-      const double diagonal_scale = std::max(input.diagonal().cwiseAbs().mean(),
-                                             std::numeric_limits<double>::min());
+      const double diagonal_scale =
+          std::max(input.diagonal().cwiseAbs().mean(), std::numeric_limits<double>::min());
       double epsilon = options.jitter_initial * diagonal_scale;
       for (int attempt = 0; attempt < options.jitter_attempts; ++attempt) {
         Square shifted = input;
@@ -154,10 +157,9 @@ template <typename Derived>
         }
         epsilon *= options.jitter_growth;
       }
-      detail::throw_not_pd(
-          name, report.smallest_eigenvalue,
-          fmt::format(" after {} jitter attempts up to {:.3g}", options.jitter_attempts,
-                      epsilon / options.jitter_growth));
+      detail::throw_not_pd(name, report.smallest_eigenvalue,
+                           fmt::format(" after {} jitter attempts up to {:.3g}",
+                                       options.jitter_attempts, epsilon / options.jitter_growth));
     }
 
     case CovarianceRepair::nearest_pd: {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string_view>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"

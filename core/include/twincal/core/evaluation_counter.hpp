@@ -15,8 +15,8 @@ namespace twincal {
 
 /// A snapshot of an EvaluationCounter.
 struct EvaluationStats {
-  std::uint64_t calls = 0;        ///< batch calls (one call may evaluate many points)
-  std::uint64_t evaluations = 0;  ///< points evaluated
+  std::uint64_t calls = 0;              ///< batch calls (one call may evaluate many points)
+  std::uint64_t evaluations = 0;        ///< points evaluated
   std::chrono::nanoseconds elapsed{0};  ///< wall time inside the calls
 
   [[nodiscard]] double seconds() const noexcept {

@@ -8,9 +8,9 @@
 
 #include <type_traits>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <Eigen/Core>
 
 namespace twincal::detail {
 

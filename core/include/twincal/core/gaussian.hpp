@@ -7,8 +7,8 @@
 #include <numbers>
 #include <string_view>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/cholesky.hpp"
 #include "twincal/core/eigen.hpp"

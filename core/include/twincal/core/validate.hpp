@@ -9,12 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 #include <string_view>
+#include <utility>
 
+#include <fmt/format.h>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
-#include <fmt/format.h>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -40,9 +40,9 @@ void require_finite(std::string_view name, const Eigen::DenseBase<Derived>& x) {
       if (std::isfinite(value)) continue;
       const std::string where =
           x.cols() == 1 ? fmt::format("entry {}", r) : fmt::format("entry ({}, {})", r, c);
-      throw NonFiniteError(std::string(name),
-                           fmt::format("{}: {} is {}; rule: every entry must be finite", name,
-                                       where, value));
+      throw NonFiniteError(
+          std::string(name),
+          fmt::format("{}: {} is {}; rule: every entry must be finite", name, where, value));
     }
   }
 }
@@ -147,8 +147,7 @@ template <typename Derived>
 /// with its own error.
 template <typename Derived>
 void require_positive_definite(std::string_view name, const Eigen::MatrixBase<Derived>& m,
-                               bool allow_semidefinite = false,
-                               double symmetry_tolerance = 1e-12) {
+                               bool allow_semidefinite = false, double symmetry_tolerance = 1e-12) {
   require_symmetric(name, m, symmetry_tolerance);
   if (m.rows() == 0) return;
   const auto [lambda_min, lambda_max] = eigenvalue_range(m);
