@@ -1,0 +1,149 @@
+#pragma once
+/// @file
+/// `RmsQuadraticTwin`: an analytic twin with an exactly known optimum,
+///   Q(x, u) = sqrt(q0(x) + (u − a(x))ᵀ H (u − a(x))),
+/// the shape of an RMS deviation over measurement points that depends quadratically on the
+/// locator adjustment (and the shape of the reference filter runs). H is symmetric positive
+/// definite and shared by all assemblies; q0(x) and a(x) come from an AnalyticAssemblySet. The
+/// optimum is u0(x) = a(x) (eq. 3) with z*(x) = sqrt(q0(x)).
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/QR>
+#include <fmt/format.h>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/random_stream.hpp"
+#include "twincal/core/validate.hpp"
+#include "twincal/models/analytic_assembly_set.hpp"
+#include "twincal/models/assembly_id.hpp"
+#include "twincal/models/twin.hpp"
+
+namespace twincal {
+
+struct RmsQuadraticTwinOptions {
+  AnalyticAssemblyOptions assemblies;
+  double min_curvature = 0.5;  ///< smallest eigenvalue of H
+  double max_curvature = 5.0;  ///< largest eigenvalue of H
+
+  [[nodiscard]] std::optional<std::string> validate() const {
+    if (auto problem = assemblies.validate()) return "assemblies." + *problem;
+    if (!(min_curvature > 0.0) || !(max_curvature >= min_curvature) ||
+        !std::isfinite(max_curvature)) {
+      return fmt::format(
+          "min_curvature and max_curvature are {} and {}; rule: 0 < min_curvature <= "
+          "max_curvature < inf",
+          min_curvature, max_curvature);
+    }
+    return std::nullopt;
+  }
+};
+
+class RmsQuadraticTwin {
+ public:
+  using Assembly = AssemblyId;
+
+  /// A twin over `assemblies` with the given H.
+  /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError,
+  ///         NotPositiveDefiniteError when H is not d × d symmetric positive definite.
+  RmsQuadraticTwin(AnalyticAssemblySet assemblies, MatrixX curvature)
+      : assemblies_(std::move(assemblies)), curvature_(std::move(curvature)) {
+    require_shape("curvature", curvature_, assemblies_.dimension(), assemblies_.dimension());
+    require_positive_definite("curvature", curvature_);
+  }
+
+  /// Draws the assemblies (substream "assemblies") and H = V diag(λ) Vᵀ with V a random
+  /// orthogonal matrix and λ log-uniform in [min_curvature, max_curvature] (substream
+  /// "curvature"), so H couples the locators.
+  /// @throws InvalidArgumentError when the options are inconsistent.
+  [[nodiscard]] static RmsQuadraticTwin generate(const RmsQuadraticTwinOptions& options,
+                                                 const RandomStream& stream) {
+    require_valid("options", options);
+    AnalyticAssemblySet assemblies(options.assemblies, stream.substream("assemblies"));
+    const Index d = assemblies.dimension();
+    RandomStream curvature_stream = stream.substream("curvature");
+    MatrixX gaussian(d, d);
+    curvature_stream.fill_normal(gaussian);
+    const MatrixX rotation = Eigen::HouseholderQR<MatrixX>(gaussian).householderQ();
+    VectorX eigenvalues(d);
+    const double log_min = std::log(options.min_curvature);
+    const double log_max = std::log(options.max_curvature);
+    for (double& lambda : eigenvalues) {
+      lambda = std::exp(log_min + (log_max - log_min) * curvature_stream.uniform());
+    }
+    MatrixX curvature = rotation * eigenvalues.asDiagonal() * rotation.transpose();
+    curvature = 0.5 * (curvature + curvature.transpose()).eval();
+    return {std::move(assemblies), std::move(curvature)};
+  }
+
+  [[nodiscard]] Index control_dimension() const noexcept { return assemblies_.dimension(); }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
+    return assemblies_.locator_names();
+  }
+  [[nodiscard]] const VectorX& lower_bounds() const noexcept {
+    return assemblies_.lower_bounds();
+  }
+  [[nodiscard]] const VectorX& upper_bounds() const noexcept {
+    return assemblies_.upper_bounds();
+  }
+  [[nodiscard]] const AnalyticAssemblySet& assembly_set() const noexcept { return assemblies_; }
+  [[nodiscard]] std::vector<AssemblyId> assemblies() const { return assemblies_.assemblies(); }
+  /// H.
+  [[nodiscard]] const MatrixX& curvature() const noexcept { return curvature_; }
+
+  /// Q(x, u) = sqrt(q0(x) + (u − a(x))ᵀ H (u − a(x))).
+  /// @throws InvalidArgumentError for an unknown assembly, DimensionMismatchError for a control
+  ///         of the wrong size.
+  [[nodiscard]] double quality(const AssemblyId& assembly,
+                               const Eigen::Ref<const VectorX>& control) const {
+    require_control(control, control_dimension());
+    return evaluate(assemblies_.q0(assembly), assemblies_.optimum(assembly), control);
+  }
+
+  /// out(j) = Q(x, controls.col(j)).
+  void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const {
+    require_control_batch(controls, out, control_dimension());
+    const double q0 = assemblies_.q0(assembly);
+    const auto a = assemblies_.optimum(assembly);
+    for (Index j = 0; j < controls.cols(); ++j) out(j) = evaluate(q0, a, controls.col(j));
+  }
+
+  /// u0(x) = a(x) (eq. 3).
+  [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
+    return assemblies_.optimum(assembly);
+  }
+
+  /// z*(x) = Q(x, u0(x)) = sqrt(q0(x)).
+  [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
+    return std::sqrt(assemblies_.q0(assembly));
+  }
+
+ private:
+  // eᵀHe summed in place: no temporary, so a dynamic-size batch does not allocate per column.
+  template <typename A, typename U>
+  [[nodiscard]] double evaluate(double q0, const A& a, const U& control) const {
+    const Index d = control_dimension();
+    double quadratic = 0.0;
+    for (Index l = 0; l < d; ++l) {
+      const double e_l = control(l) - a(l);
+      double row = 0.0;
+      for (Index k = 0; k < d; ++k) row += curvature_(k, l) * (control(k) - a(k));
+      quadratic += e_l * row;
+    }
+    return std::sqrt(q0 + quadratic);
+  }
+
+  AnalyticAssemblySet assemblies_;
+  MatrixX curvature_;
+};
+
+static_assert(TwinWithOptimum<RmsQuadraticTwin>);
+
+}  // namespace twincal

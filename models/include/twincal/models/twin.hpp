@@ -1,0 +1,71 @@
+#pragma once
+/// @file
+/// `Twin`: the digital twin as a black box, Q(x, u; θ0) of the paper's eq. (1)–(4).
+///
+/// A twin maps an assembly x (its type is the twin's own: part indices, scanned part shapes, a
+/// file name understood by an external program) and a clamp locator adjustment u ∈ R^d to a
+/// scalar quality (smaller is better). It names its d locators and their bounds. Controls come as
+/// `Eigen::Ref`, so fixed-size vectors (Vector<3>) and dynamic ones pass without copies, and a
+/// batch is a d × k matrix with one control per column: one `quality_batch` call is the unit of
+/// work that an evaluator times, counts, checks and spreads over threads.
+///
+/// Twins are used through const references and may be called from several threads at once by a
+/// parallel evaluator; a twin with internal state (an external process) serializes itself.
+
+#include <concepts>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/validate.hpp"
+
+namespace twincal {
+
+/// A black-box quality model Q(x, u).
+///
+/// - `typename T::Assembly`: what x is.
+/// - `control_dimension()`: d.
+/// - `locator_names()`: d names (the paper's locators A, B, C, …).
+/// - `lower_bounds()`, `upper_bounds()`: the box of admissible controls (d each).
+/// - `quality(x, u)`: Q(x, u) for one control.
+/// - `quality_batch(x, U, out)`: out(j) = Q(x, U.col(j)) for the d × k matrix U.
+template <typename T>
+concept Twin = requires(const T& twin, const typename T::Assembly& assembly,
+                        const Eigen::Ref<const VectorX>& control,
+                        const Eigen::Ref<const MatrixX>& controls, Eigen::Ref<VectorX> out) {
+  typename T::Assembly;
+  { twin.control_dimension() } -> std::convertible_to<Index>;
+  { twin.locator_names() } -> std::convertible_to<const std::vector<std::string>&>;
+  { twin.lower_bounds() } -> std::convertible_to<const VectorX&>;
+  { twin.upper_bounds() } -> std::convertible_to<const VectorX&>;
+  { twin.quality(assembly, control) } -> std::convertible_to<double>;
+  twin.quality_batch(assembly, controls, out);
+};
+
+/// A twin whose optimum is known: u0(x) = argmin_u Q(x, u) (eq. 3) and z*(x) = Q(x, u0(x)).
+/// Analytic twins know them exactly; an FEM twin would get them from an individualized
+/// optimizer run once per assembly.
+template <typename T>
+concept TwinWithOptimum =
+    Twin<T> && requires(const T& twin, const typename T::Assembly& assembly) {
+      { twin.optimum(assembly) } -> std::convertible_to<VectorX>;
+      { twin.optimal_quality(assembly) } -> std::convertible_to<double>;
+    };
+
+/// Checks a single control for a twin of `dimension` locators.
+/// @throws DimensionMismatchError "control: size is …; rule: must equal d".
+inline void require_control(const Eigen::Ref<const VectorX>& control, Index dimension) {
+  require_dimension("control", control.size(), dimension);
+}
+
+/// Checks a batch: `controls` is d × k and `out` has k entries.
+/// @throws DimensionMismatchError naming "controls" or "out".
+inline void require_control_batch(const Eigen::Ref<const MatrixX>& controls,
+                                  const Eigen::Ref<const VectorX>& out, Index dimension) {
+  require_dimension("controls", controls.rows(), dimension, "rows");
+  require_dimension("out", out.size(), controls.cols());
+}
+
+}  // namespace twincal
