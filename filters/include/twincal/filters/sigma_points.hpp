@@ -1,13 +1,14 @@
 #pragma once
 /// @file
 /// `SigmaPoints<N, M>`: a weighted point set standing in for a Gaussian (the paper's S_t with
-/// weights W(s_t) in eq. (11)), and the weighted moments that the unscented transform takes of
-/// it.
+/// weights W(s_t) in eq. (11)), the weighted moments that the unscented transform takes of it,
+/// and `draw_sigma_points`, which asks a scheme for the set of N(x, L Lᵀ).
 
 #include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/filters/sigma_point_scheme.hpp"
 
 namespace twincal {
 
@@ -36,5 +37,22 @@ struct SigmaPoints {
     return p;
   }
 };
+
+/// The sigma points of `scheme` for N(mean, lower·lowerᵀ), with their weights.
+/// @throws DimensionMismatchError (lower not n × n), InvalidArgumentError (the scheme does not
+///         admit dimension n).
+template <SigmaPointScheme Scheme, int N>
+[[nodiscard]] SigmaPoints<N, Scheme::points_at_compile_time(N)> draw_sigma_points(
+    const Scheme& scheme, const Vector<N>& mean, const SquareMatrix<N>& lower) {
+  const Index n = mean.size();
+  require_shape("lower", lower, n, n);
+  const Index m = scheme.num_points(n);
+  SigmaPoints<N, Scheme::points_at_compile_time(N)> set{
+      Matrix<N, Scheme::points_at_compile_time(N)>(n, m),
+      Vector<Scheme::points_at_compile_time(N)>(m), Vector<Scheme::points_at_compile_time(N)>(m)};
+  scheme.weights(n, set.mean_weights, set.covariance_weights);
+  scheme.generate(mean, lower, set.points);
+  return set;
+}
 
 }  // namespace twincal
