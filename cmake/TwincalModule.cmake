@@ -18,7 +18,10 @@ function(twincal_add_module name)
   if(arg_SOURCES)
     add_library(${target} ${arg_SOURCES})
     set(scope PUBLIC)
-    target_link_libraries(${target} PRIVATE twincal::warnings twincal::sanitizers)
+    # Build-only: a static library exports its private link dependencies, and these two are not
+    # part of the installed package.
+    target_link_libraries(${target} PRIVATE
+      $<BUILD_INTERFACE:twincal::warnings> $<BUILD_INTERFACE:twincal::sanitizers>)
   else()
     add_library(${target} INTERFACE)
     set(scope INTERFACE)

@@ -6,38 +6,8 @@
 
 #include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
-#include "twincal/samplers/sampler.hpp"
 
 namespace twincal::static_checks {
-
-// --- Sampler ---------------------------------------------------------------------------------
-struct CompleteSampler {
-  [[nodiscard]] Index dimension() const { return 2; }
-  void seed(std::uint64_t) {}
-  void discard(std::uint64_t) {}
-  void fill(Eigen::Ref<MatrixX>) {}
-};
-struct SamplerWithoutDiscard {
-  [[nodiscard]] Index dimension() const { return 2; }
-  void seed(std::uint64_t) {}
-  void fill(Eigen::Ref<MatrixX>) {}
-};
-struct SamplerWithoutFill {
-  [[nodiscard]] Index dimension() const { return 2; }
-  void seed(std::uint64_t) {}
-  void discard(std::uint64_t) {}
-};
-struct SamplerWithMutableDimension {  // dimension() must be callable on a const sampler
-  Index dimension() { return 2; }
-  void seed(std::uint64_t) {}
-  void discard(std::uint64_t) {}
-  void fill(Eigen::Ref<MatrixX>) {}
-};
-static_assert(Sampler<CompleteSampler>);
-static_assert(!Sampler<SamplerWithoutDiscard>);
-static_assert(!Sampler<SamplerWithoutFill>);
-static_assert(!Sampler<SamplerWithMutableDimension>);
-static_assert(!Sampler<int>);
 
 // --- ValidatableOptions ----------------------------------------------------------------------
 struct GoodOptions {

@@ -4,6 +4,10 @@
 /// Boost.Random's quasi-random engines: a dimension, a seed, discard, and a batch fill.
 /// Points are the columns of the filled matrix (d × count, column-major), so one point is
 /// contiguous and a Gaussian transform is one product L·Z.
+///
+/// twincal's samplers (Sobol, Halton, PseudoRandom, LatinHypercube) also share a constructor
+/// `S(Index dimension, typename S::Options options)`, the options carrying the seed, so a class
+/// template taking a sampler policy can build one for its dimension: `ConstructibleSampler`.
 
 #include <concepts>
 #include <cstdint>
@@ -27,5 +31,9 @@ concept Sampler = requires(S& sampler, const S& const_sampler, std::uint64_t val
   /// Fill the d × count matrix with the next count points; rows must equal dimension().
   sampler.fill(points);
 };
+
+/// A Sampler that can be built from a dimension and its options aggregate.
+template <typename S>
+concept ConstructibleSampler = Sampler<S> && std::constructible_from<S, Index, typename S::Options>;
 
 }  // namespace twincal

@@ -1,0 +1,58 @@
+#include "twincal/samplers/latin_hypercube.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "twincal/core/error.hpp"
+#include "twincal/core/validate.hpp"
+
+namespace twincal {
+
+LatinHypercube::LatinHypercube(Index dimension, LatinHypercubeOptions options)
+    : dimension_(dimension), options_(options), stream_(options.seed) {
+  if (dimension < 1) {
+    throw InvalidArgumentError(
+        "dimension", fmt::format("dimension: value is {}; rule: must be >= 1", dimension));
+  }
+}
+
+void LatinHypercube::seed(std::uint64_t value) {
+  options_.seed = value;
+  stream_ = RandomStream(value);
+}
+
+void LatinHypercube::discard(std::uint64_t count) {
+  if (count == 0) return;
+  MatrixX design(dimension_, static_cast<Index>(count));
+  fill(design);
+}
+
+void LatinHypercube::fill(Eigen::Ref<MatrixX> points) {
+  require_dimension("points", points.rows(), dimension_, "rows");
+  const Index n = points.cols();
+  if (n == 0) return;
+  const double width = 1.0 / static_cast<double>(n);
+  const double largest_below_one = std::nextafter(1.0, 0.0);
+  permutation_.resize(static_cast<std::size_t>(n));
+  for (Index r = 0; r < dimension_; ++r) {
+    std::iota(permutation_.begin(), permutation_.end(), Index{0});
+    for (Index i = n - 1; i > 0; --i) {  // Fisher–Yates
+      const auto k = stream_.uniform_int<Index>(0, i);
+      std::swap(permutation_[static_cast<std::size_t>(i)],
+                permutation_[static_cast<std::size_t>(k)]);
+    }
+    for (Index c = 0; c < n; ++c) {
+      const double offset = options_.centered ? 0.5 : stream_.uniform();
+      // (n − 1 + u)/n with u just below 1 rounds to 1; keep the point in its half-open cell.
+      points(r, c) = std::min(
+          (static_cast<double>(permutation_[static_cast<std::size_t>(c)]) + offset) * width,
+          largest_below_one);
+    }
+  }
+}
+
+}  // namespace twincal
