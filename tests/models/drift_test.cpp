@@ -24,7 +24,8 @@ class DriftTest : public ::testing::Test {
   }
 };
 
-using Sizes = ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, Dynamic>>;
+using Sizes =
+    ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, Dynamic>>;
 TYPED_TEST_SUITE(DriftTest, Sizes);
 
 TYPED_TEST(DriftTest, ScenariosSatisfyTheDriftConcept) {
@@ -146,36 +147,33 @@ TYPED_TEST(DriftTest, StepAndConstantDrifts) {
 }
 
 TYPED_TEST(DriftTest, RejectsBadArguments) {
-  EXPECT_THAT([this] {
-    (void)BouncingDrift<TestFixture::N>(this->vec(0.03, 0.0), this->vec(0.5, -0.1));
-  },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "bound: entry 1 is -0.1; rule: must be >= 0"));
-  EXPECT_THAT([this] {
-    (void)BouncingDrift<TestFixture::N>(this->vec(std::nan(""), 0.0), this->vec(0.5, 0.5));
-  },
-              ::testing::ThrowsMessage<NonFiniteError>(
-                  "step: entry 0 is nan; rule: every entry must be finite"));
+  EXPECT_THAT(
+      [this] { (void)BouncingDrift<TestFixture::N>(this->vec(0.03, 0.0), this->vec(0.5, -0.1)); },
+      ::testing::ThrowsMessage<InvalidArgumentError>("bound: entry 1 is -0.1; rule: must be >= 0"));
+  EXPECT_THAT(
+      [this] {
+        (void)BouncingDrift<TestFixture::N>(this->vec(std::nan(""), 0.0), this->vec(0.5, 0.5));
+      },
+      ::testing::ThrowsMessage<NonFiniteError>(
+          "step: entry 0 is nan; rule: every entry must be finite"));
   RandomStream stream(1);
-  EXPECT_THAT([&] { (void)BouncingDrift<TestFixture::N>::random(2, stream, 0.0); },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "step_length: value is 0; rule: must be > 0"));
-  EXPECT_THAT([this] {
-    (void)StepDrift<TestFixture::N>(this->vec(0.0, 0.0), this->vec(0.0, 0.0), -1);
-  },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "step_time: value is -1; rule: must be >= 0"));
+  EXPECT_THAT(
+      [&] { (void)BouncingDrift<TestFixture::N>::random(2, stream, 0.0); },
+      ::testing::ThrowsMessage<InvalidArgumentError>("step_length: value is 0; rule: must be > 0"));
+  EXPECT_THAT(
+      [this] { (void)StepDrift<TestFixture::N>(this->vec(0.0, 0.0), this->vec(0.0, 0.0), -1); },
+      ::testing::ThrowsMessage<InvalidArgumentError>("step_time: value is -1; rule: must be >= 0"));
   EXPECT_THROW((void)ConstantDrift<TestFixture::N>(this->vec(INFINITY, 0.0)), NonFiniteError);
 }
 
 TEST(BouncingDrift, DynamicDimensionsMustAgree) {
-  EXPECT_THAT([] { (void)BouncingDrift<Dynamic>(VectorX::Zero(3), VectorX::Ones(2)); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "bound: size is 2; rule: must equal 3"));
+  EXPECT_THAT(
+      [] { (void)BouncingDrift<Dynamic>(VectorX::Zero(3), VectorX::Ones(2)); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("bound: size is 2; rule: must equal 3"));
   RandomStream stream(1);
-  EXPECT_THAT([&] { (void)BouncingDrift<3>::random(2, stream); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "dimension: size is 2; rule: must equal 3"));
+  EXPECT_THAT(
+      [&] { (void)BouncingDrift<3>::random(2, stream); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("dimension: size is 2; rule: must equal 3"));
 }
 
 }  // namespace

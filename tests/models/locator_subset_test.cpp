@@ -15,8 +15,8 @@ namespace {
 RmsQuadraticTwin make_twin() {
   RmsQuadraticTwinOptions options;
   options.assemblies.dimension = 12;
-  options.assemblies.locator_names = {"L1", "L2", "A", "L4", "L5", "B",
-                                      "L7", "L8", "L9", "C", "L11", "L12"};
+  options.assemblies.locator_names = {"L1", "L2", "A",  "L4", "L5",  "B",
+                                      "L7", "L8", "L9", "C",  "L11", "L12"};
   return RmsQuadraticTwin::generate(options, RandomStream(21));
 }
 
@@ -38,7 +38,8 @@ TEST(LocatorSubset, HoldsTheOtherLocatorsAtTheirOptimum) {
   for (const AssemblyId& x : {AssemblyId{0, 0}, AssemblyId{4, 7}, AssemblyId{9, 2}}) {
     const VectorX full_optimum = twin.optimum(x);
     const VectorX optimum = subset.optimum(x);
-    EXPECT_EQ(optimum, (VectorX(3) << full_optimum(2), full_optimum(5), full_optimum(9)).finished());
+    EXPECT_EQ(optimum,
+              (VectorX(3) << full_optimum(2), full_optimum(5), full_optimum(9)).finished());
     EXPECT_EQ(subset.optimal_quality(x), twin.optimal_quality(x));
     EXPECT_EQ(subset.quality(x, optimum), twin.optimal_quality(x));
     const VectorX v = optimum + VectorX::Constant(3, 0.05);
@@ -69,19 +70,27 @@ TEST(LocatorSubset, RejectsBadSelections) {
               ::testing::ThrowsMessage<InvalidArgumentError>(
                   "names: locator \"D\" is unknown; rule: must be one of [L1, L2, A, L4, L5, B, "
                   "L7, L8, L9, C, L11, L12]"));
-  EXPECT_THAT([&] { (void)LocatorSubset(twin, {2, 12}); },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "locators: entry 1 is 12; rule: must lie in [0, 11]"));
-  EXPECT_THAT([&] { (void)LocatorSubset(twin, {2, 5, 2}); },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "locators: entry 2 repeats locator 2; rule: each locator at most once"));
+  EXPECT_THAT(
+      [&] {
+        (void)LocatorSubset(twin, {2, 12});
+      },
+      ::testing::ThrowsMessage<InvalidArgumentError>(
+          "locators: entry 1 is 12; rule: must lie in [0, 11]"));
+  EXPECT_THAT(
+      [&] {
+        (void)LocatorSubset(twin, {2, 5, 2});
+      },
+      ::testing::ThrowsMessage<InvalidArgumentError>(
+          "locators: entry 2 repeats locator 2; rule: each locator at most once"));
   EXPECT_THAT([&] { (void)LocatorSubset(twin, {}); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
                   "locators: is empty; rule: must name >= 1 locator"));
   const LocatorSubset subset(twin, {0, 1});
-  EXPECT_THAT([&] { (void)subset.quality({0, 0}, VectorX::Zero(3)); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "control: size is 3; rule: must equal 2"));
+  EXPECT_THAT(
+      [&] {
+        (void)subset.quality({0, 0}, VectorX::Zero(3));
+      },
+      ::testing::ThrowsMessage<DimensionMismatchError>("control: size is 3; rule: must equal 2"));
 }
 
 }  // namespace

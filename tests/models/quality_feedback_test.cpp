@@ -15,18 +15,17 @@ namespace {
 // The filters' MeasurementModel shape (interfaces agreement), restated here because models does
 // not depend on filters: QualityFeedback must fit it structurally.
 template <typename M>
-concept MeasurementModelShape =
-    requires {
-      typename M::Inputs;
-      { M::dimension_at_compile_time } -> std::convertible_to<int>;
-    } &&
-    requires(const M& model, const Vector<M::dimension_at_compile_time>& state,
-             const typename M::Inputs& inputs, const Eigen::Ref<const MatrixX>& states,
-             Eigen::Ref<VectorX> out) {
-      { model.measure(state, inputs) } -> std::convertible_to<double>;
-      { model.noise_variance() } -> std::convertible_to<double>;
-      model.measure_batch(states, inputs, out);
-    };
+concept MeasurementModelShape = requires {
+  typename M::Inputs;
+  { M::dimension_at_compile_time } -> std::convertible_to<int>;
+}
+&&requires(const M& model, const Vector<M::dimension_at_compile_time>& state,
+           const typename M::Inputs& inputs, const Eigen::Ref<const MatrixX>& states,
+           Eigen::Ref<VectorX> out) {
+  { model.measure(state, inputs) } -> std::convertible_to<double>;
+  { model.noise_variance() } -> std::convertible_to<double>;
+  model.measure_batch(states, inputs, out);
+};
 
 constexpr Index kDimension = 3;
 
@@ -118,7 +117,8 @@ TYPED_TEST(QualityFeedbackTest, GridEvaluatesCandidatesTimesSigmaPointsInOneTwin
   this->evaluator_.reset_stats();
   model.measure_grid(x, candidates, states, out);
   EXPECT_EQ(this->evaluator_.stats().calls, 1U);
-  EXPECT_EQ(this->evaluator_.stats().evaluations, static_cast<std::uint64_t>(kPoints * kCandidates));
+  EXPECT_EQ(this->evaluator_.stats().evaluations,
+            static_cast<std::uint64_t>(kPoints * kCandidates));
   for (Index c = 0; c < kCandidates; ++c) {
     const typename TypeParam::Inputs inputs{x, candidates.col(c)};
     VectorX column(kPoints);
@@ -153,29 +153,28 @@ TYPED_TEST(QualityFeedbackTest, RejectsBadArguments) {
   const TypeParam model(this->evaluator_, 1e-4);
   const typename TypeParam::Inputs inputs{AssemblyId{0, 0}, this->state(0.0, 0.0, 0.0)};
   VectorX out(3);
-  EXPECT_THAT([&] { model.measure_batch(MatrixX::Zero(2, 3), inputs, out); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "states: rows is 2; rule: must equal 3"));
-  EXPECT_THAT([&] { model.measure_batch(MatrixX::Zero(3, 4), inputs, out); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "out: size is 3; rule: must equal 4"));
+  EXPECT_THAT(
+      [&] { model.measure_batch(MatrixX::Zero(2, 3), inputs, out); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("states: rows is 2; rule: must equal 3"));
+  EXPECT_THAT(
+      [&] { model.measure_batch(MatrixX::Zero(3, 4), inputs, out); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("out: size is 3; rule: must equal 4"));
   MatrixX grid(4, 2);
-  EXPECT_THAT([&] {
-    model.measure_grid(AssemblyId{0, 0}, MatrixX::Zero(3, 2), MatrixX::Zero(3, 3), grid);
-  },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "out: is 4x2; rule: must be 3x2"));
+  EXPECT_THAT(
+      [&] {
+        model.measure_grid(AssemblyId{0, 0}, MatrixX::Zero(3, 2), MatrixX::Zero(3, 3), grid);
+      },
+      ::testing::ThrowsMessage<DimensionMismatchError>("out: is 4x2; rule: must be 3x2"));
 }
 
 TEST(QualityFeedback, DynamicModelRejectsMismatchedSizes) {
   const RmsQuadraticTwin twin = make_twin();
   const QualityFeedback<RmsQuadraticTwin> model(twin, 1e-6);
   const QualityFeedback<RmsQuadraticTwin>::Inputs inputs{AssemblyId{0, 0}, VectorX::Zero(3)};
-  EXPECT_THAT([&] { (void)model.measure(VectorX::Zero(2), inputs); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "state: size is 2; rule: must equal 3"));
-  const QualityFeedback<RmsQuadraticTwin>::Inputs short_control{AssemblyId{0, 0},
-                                                                VectorX::Zero(4)};
+  EXPECT_THAT(
+      [&] { (void)model.measure(VectorX::Zero(2), inputs); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("state: size is 2; rule: must equal 3"));
+  const QualityFeedback<RmsQuadraticTwin>::Inputs short_control{AssemblyId{0, 0}, VectorX::Zero(4)};
   EXPECT_THAT([&] { (void)model.measure(VectorX::Zero(3), short_control); },
               ::testing::ThrowsMessage<DimensionMismatchError>(
                   "inputs.control: size is 4; rule: must equal 3"));

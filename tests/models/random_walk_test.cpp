@@ -24,9 +24,9 @@ TEST(RandomWalk, RejectsInvalidProcessNoise) {
   EXPECT_THAT([] { (void)RandomWalk<2>::isotropic(2, -1e-3); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
                   "variance: value is -0.001; rule: must be >= 0"));
-  EXPECT_THAT([] { (void)RandomWalk<2>::isotropic(3, 1e-3); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "dimension: size is 3; rule: must equal 2"));
+  EXPECT_THAT(
+      [] { (void)RandomWalk<2>::isotropic(3, 1e-3); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("dimension: size is 3; rule: must equal 2"));
   Eigen::Matrix2d indefinite;
   indefinite << 1.0, 2.0, 2.0, 1.0;
   EXPECT_THROW(RandomWalk<2>{indefinite}, NotPositiveDefiniteError);

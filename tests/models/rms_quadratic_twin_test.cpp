@@ -2,9 +2,9 @@
 
 #include <set>
 
-#include <Eigen/Eigenvalues>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "twincal/core/random_stream.hpp"
 
@@ -49,8 +49,8 @@ TEST(AnalyticAssemblySet, ParametersRespectTheirRangesAndComeFromTheParts) {
   const AssemblyId il{1, 5};
   const AssemblyId kj{7, 2};
   EXPECT_NEAR(set.q0(ij) + set.q0(kl), set.q0(il) + set.q0(kj), 1e-15);
-  EXPECT_TRUE((set.optimum(ij) + set.optimum(kl))
-                  .isApprox(set.optimum(il) + set.optimum(kj), 1e-14));
+  EXPECT_TRUE(
+      (set.optimum(ij) + set.optimum(kl)).isApprox(set.optimum(il) + set.optimum(kj), 1e-14));
   // Parts differ: not every assembly has the same optimum.
   EXPECT_NE(set.optimum(ij), set.optimum(kl));
 }
@@ -69,12 +69,18 @@ TEST(AnalyticAssemblySet, RejectsInvalidOptionsAndUnknownAssemblies) {
                   "options: locator_names has 2 names; rule: must be empty or have dimension "
                   "= 3"));
   const AnalyticAssemblySet set(AnalyticAssemblyOptions{}, RandomStream(1));
-  EXPECT_THAT([&] { (void)set.q0(AssemblyId{10, 0}); },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "assembly.upper: value is 10; rule: must lie in [0, 9]"));
-  EXPECT_THAT([&] { (void)set.q0(AssemblyId{0, -1}); },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "assembly.lower: value is -1; rule: must lie in [0, 9]"));
+  EXPECT_THAT(
+      [&] {
+        (void)set.q0(AssemblyId{10, 0});
+      },
+      ::testing::ThrowsMessage<InvalidArgumentError>(
+          "assembly.upper: value is 10; rule: must lie in [0, 9]"));
+  EXPECT_THAT(
+      [&] {
+        (void)set.q0(AssemblyId{0, -1});
+      },
+      ::testing::ThrowsMessage<InvalidArgumentError>(
+          "assembly.lower: value is -1; rule: must lie in [0, 9]"));
 }
 
 TEST(RmsQuadraticTwin, GenerationIsSeeded) {
@@ -103,7 +109,8 @@ TEST(RmsQuadraticTwin, CurvatureIsSymmetricPositiveDefiniteWithinItsRange) {
 }
 
 TEST(RmsQuadraticTwin, QualityIsTheRmsQuadraticWithExactOptimum) {
-  const RmsQuadraticTwin twin = RmsQuadraticTwin::generate(options_with_dimension(3), RandomStream(4));
+  const RmsQuadraticTwin twin =
+      RmsQuadraticTwin::generate(options_with_dimension(3), RandomStream(4));
   RandomStream stream(9);
   for (const AssemblyId& x : twin.assemblies()) {
     const VectorX a = twin.optimum(x);
@@ -121,7 +128,8 @@ TEST(RmsQuadraticTwin, QualityIsTheRmsQuadraticWithExactOptimum) {
 }
 
 TEST(RmsQuadraticTwin, BatchMatchesSingleEvaluations) {
-  const RmsQuadraticTwin twin = RmsQuadraticTwin::generate(options_with_dimension(3), RandomStream(4));
+  const RmsQuadraticTwin twin =
+      RmsQuadraticTwin::generate(options_with_dimension(3), RandomStream(4));
   MatrixX controls(3, 11);
   RandomStream(10).fill_normal(controls);
   VectorX out(11);
@@ -133,14 +141,19 @@ TEST(RmsQuadraticTwin, BatchMatchesSingleEvaluations) {
 }
 
 TEST(RmsQuadraticTwin, RejectsBadArguments) {
-  const RmsQuadraticTwin twin = RmsQuadraticTwin::generate(options_with_dimension(3), RandomStream(4));
-  EXPECT_THAT([&] { (void)twin.quality({0, 0}, VectorX::Zero(2)); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "control: size is 2; rule: must equal 3"));
+  const RmsQuadraticTwin twin =
+      RmsQuadraticTwin::generate(options_with_dimension(3), RandomStream(4));
+  EXPECT_THAT(
+      [&] {
+        (void)twin.quality({0, 0}, VectorX::Zero(2));
+      },
+      ::testing::ThrowsMessage<DimensionMismatchError>("control: size is 2; rule: must equal 3"));
   VectorX out(2);
-  EXPECT_THAT([&] { twin.quality_batch({0, 0}, MatrixX::Zero(3, 3), out); },
-              ::testing::ThrowsMessage<DimensionMismatchError>(
-                  "out: size is 2; rule: must equal 3"));
+  EXPECT_THAT(
+      [&] {
+        twin.quality_batch({0, 0}, MatrixX::Zero(3, 3), out);
+      },
+      ::testing::ThrowsMessage<DimensionMismatchError>("out: size is 2; rule: must equal 3"));
   RmsQuadraticTwinOptions bad = options_with_dimension(3);
   bad.min_curvature = 0.0;
   EXPECT_THAT([&] { (void)RmsQuadraticTwin::generate(bad, RandomStream(1)); },

@@ -17,8 +17,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -30,13 +30,13 @@
 namespace twincal {
 
 struct AnalyticAssemblyOptions {
-  Index dimension = 3;         ///< d, the number of locators
-  Index upper_parts = 10;      ///< number of upper parts
-  Index lower_parts = 10;      ///< number of lower parts
-  double q0_min = 0.25;        ///< smallest q0(x) = z*(x)²
-  double q0_max = 1.0;         ///< largest q0(x)
-  double optimum_half_width = 0.2;  ///< |a_k(x)| ≤ this
-  double bound = 1.0;          ///< admissible controls: [−bound, bound]^d
+  Index dimension = 3;                     ///< d, the number of locators
+  Index upper_parts = 10;                  ///< number of upper parts
+  Index lower_parts = 10;                  ///< number of lower parts
+  double q0_min = 0.25;                    ///< smallest q0(x) = z*(x)²
+  double q0_max = 1.0;                     ///< largest q0(x)
+  double optimum_half_width = 0.2;         ///< |a_k(x)| ≤ this
+  double bound = 1.0;                      ///< admissible controls: [−bound, bound]^d
   std::vector<std::string> locator_names;  ///< d names; empty gives "u1", …, "ud"
 
   [[nodiscard]] std::optional<std::string> validate() const {

@@ -26,8 +26,8 @@ template <>
 struct std::hash<twincal::AssemblyId> {
   std::size_t operator()(const twincal::AssemblyId& id) const noexcept {
     const std::size_t h = std::hash<twincal::Index>{}(id.upper);
-    return h ^ (std::hash<twincal::Index>{}(id.lower) + 0x9e3779b97f4a7c15ULL + (h << 6U) +
-                (h >> 2U));
+    return h ^
+           (std::hash<twincal::Index>{}(id.lower) + 0x9e3779b97f4a7c15ULL + (h << 6U) + (h >> 2U));
   }
 };
 

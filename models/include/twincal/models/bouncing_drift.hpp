@@ -10,8 +10,8 @@
 
 #include <cmath>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"

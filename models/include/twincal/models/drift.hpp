@@ -14,9 +14,9 @@ namespace twincal {
 template <typename D>
 concept Drift = requires(D drift, const D& const_drift) {
   { const_drift.dimension() } -> std::convertible_to<Index>;
-  { const_drift.time() } -> std::convertible_to<Index>;   ///< t
+  { const_drift.time() } -> std::convertible_to<Index>;      ///< t
   { const_drift.offset() } -> std::convertible_to<VectorX>;  ///< δu*_t
-  drift.advance();                                          ///< t → t + 1
+  drift.advance();                                           ///< t → t + 1
 };
 
 }  // namespace twincal

@@ -15,8 +15,8 @@
 #include <string_view>
 #include <utility>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -26,30 +26,34 @@ namespace twincal {
 
 /// Why an evaluation failed.
 enum class EvaluationFailure {
-  twin_threw,   ///< the twin threw (the nested exception is its error)
-  non_finite,   ///< the twin returned NaN or ±∞
-  time_limit,   ///< the call took longer than the evaluator's time limit
+  twin_threw,  ///< the twin threw (the nested exception is its error)
+  non_finite,  ///< the twin returned NaN or ±∞
+  time_limit,  ///< the call took longer than the evaluator's time limit
 };
 
 [[nodiscard]] constexpr std::string_view to_string(EvaluationFailure failure) noexcept {
   switch (failure) {
-    case EvaluationFailure::twin_threw: return "the twin threw";
-    case EvaluationFailure::non_finite: return "non-finite quality";
-    case EvaluationFailure::time_limit: return "time limit exceeded";
+    case EvaluationFailure::twin_threw:
+      return "the twin threw";
+    case EvaluationFailure::non_finite:
+      return "non-finite quality";
+    case EvaluationFailure::time_limit:
+      return "time limit exceeded";
   }
   return "unknown failure";
 }
 
-/// A human-readable description of an assembly for messages: fmt formatting when available,
-/// `dump()` for JSON-like values, otherwise a placeholder.
+/// A human-readable description of an assembly for messages: `dump()` for JSON-like values,
+/// fmt formatting when available, otherwise a placeholder.
 template <typename Assembly>
 [[nodiscard]] std::string describe_assembly(const Assembly& assembly) {
-  if constexpr (fmt::is_formattable<Assembly>::value) {
-    return fmt::format("{}", assembly);
-  } else if constexpr (requires {
-                         { assembly.dump() } -> std::convertible_to<std::string>;
-                       }) {
+  // dump() first: JSON values convert implicitly to strings, which fmt would try (and throw).
+  if constexpr (requires {
+                  { assembly.dump() } -> std::convertible_to<std::string>;
+                }) {
     return assembly.dump();
+  } else if constexpr (fmt::is_formattable<Assembly>::value) {
+    return fmt::format("{}", assembly);
   } else {
     return "<assembly without a formatter>";
   }
@@ -104,8 +108,7 @@ class TwinEvaluationError : public EvaluationError {
  public:
   TwinEvaluationError(EvaluationFailure failure, Assembly assembly, MatrixX controls,
                       std::optional<Index> column, const std::string& detail)
-      : EvaluationError(failure, describe_assembly(assembly), std::move(controls), column,
-                        detail),
+      : EvaluationError(failure, describe_assembly(assembly), std::move(controls), column, detail),
         assembly_(std::move(assembly)) {}
 
   [[nodiscard]] const Assembly& assembly() const noexcept { return assembly_; }

@@ -22,9 +22,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <concepts>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <functional>
@@ -35,8 +35,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -51,7 +51,7 @@ namespace twincal {
 
 struct EvaluatorOptions {
   /// Longest acceptable duration of one twin call (a batch or a range of one); none by default.
-  std::optional<std::chrono::nanoseconds> time_limit;
+  std::optional<std::chrono::nanoseconds> time_limit = std::nullopt;
   /// Remember Q(x, u) and answer repeated pairs without calling the twin. Needs std::hash and
   /// == for the twin's Assembly.
   bool memoize = false;
@@ -67,9 +67,9 @@ struct EvaluatorOptions {
 /// An assembly type usable as a memoization key.
 template <typename A>
 concept HashableAssembly = std::copy_constructible<A> && std::equality_comparable<A> &&
-                           requires(const A& a) {
-                             { std::hash<A>{}(a) } -> std::convertible_to<std::size_t>;
-                           };
+    requires(const A& a) {
+  { std::hash<A>{}(a) } -> std::convertible_to<std::size_t>;
+};
 
 template <Twin T, Execution E = SerialExecution>
 class Evaluator {
@@ -143,7 +143,8 @@ class Evaluator {
       if (misses.empty()) return;
       const Index k = std::ssize(misses);
       MatrixX missing(controls.rows(), k);
-      for (Index i = 0; i < k; ++i) missing.col(i) = controls.col(misses[static_cast<std::size_t>(i)]);
+      for (Index i = 0; i < k; ++i)
+        missing.col(i) = controls.col(misses[static_cast<std::size_t>(i)]);
       VectorX values(k);
       evaluated = static_cast<std::uint64_t>(k);
       evaluate(assembly, missing, values);
@@ -175,7 +176,7 @@ class Evaluator {
     counter_.reset();
     cache_hits_.store(0, std::memory_order_relaxed);
   }
-  void clear_cache() {
+  void clear_cache() const {
     const std::lock_guard lock(cache_mutex_);
     cache_.clear();
   }
@@ -230,11 +231,11 @@ class Evaluator {
     try {
       twin_->quality_batch(assembly, controls, out);
     } catch (const std::exception& cause) {
-      std::throw_with_nested(TwinEvaluationError<Assembly>(
-          EvaluationFailure::twin_threw, assembly, controls, std::nullopt, cause.what()));
+      std::throw_with_nested(TwinEvaluationError<Assembly>(EvaluationFailure::twin_threw, assembly,
+                                                           controls, std::nullopt, cause.what()));
     } catch (...) {
-      std::throw_with_nested(TwinEvaluationError<Assembly>(EvaluationFailure::twin_threw,
-                                                           assembly, controls, std::nullopt,
+      std::throw_with_nested(TwinEvaluationError<Assembly>(EvaluationFailure::twin_threw, assembly,
+                                                           controls, std::nullopt,
                                                            "an exception of unknown type"));
     }
     const std::chrono::nanoseconds elapsed = stopwatch.elapsed();
@@ -247,9 +248,8 @@ class Evaluator {
     }
     for (Index j = 0; j < out.size(); ++j) {
       if (std::isfinite(out(j))) continue;
-      throw TwinEvaluationError<Assembly>(
-          EvaluationFailure::non_finite, assembly, controls, j,
-          fmt::format("value is {}; rule: must be finite", out(j)));
+      throw TwinEvaluationError<Assembly>(EvaluationFailure::non_finite, assembly, controls, j,
+                                          fmt::format("value is {}; rule: must be finite", out(j)));
     }
   }
 

@@ -15,8 +15,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -42,15 +42,15 @@ class LocatorSubset {
       const Index k = locators_[i];
       if (k < 0 || k >= d) {
         throw InvalidArgumentError(
-            "locators", fmt::format("locators: entry {} is {}; rule: must lie in [0, {}]", i, k,
-                                    d - 1));
+            "locators",
+            fmt::format("locators: entry {} is {}; rule: must lie in [0, {}]", i, k, d - 1));
       }
       if (std::find(locators_.begin(), locators_.begin() + static_cast<std::ptrdiff_t>(i), k) !=
           locators_.begin() + static_cast<std::ptrdiff_t>(i)) {
         throw InvalidArgumentError(
             "locators",
-            fmt::format("locators: entry {} repeats locator {}; rule: each locator at most once",
-                        i, k));
+            fmt::format("locators: entry {} repeats locator {}; rule: each locator at most once", i,
+                        k));
       }
     }
     const auto& names = twin.locator_names();

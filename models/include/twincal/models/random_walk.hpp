@@ -21,7 +21,8 @@ class RandomWalk {
   /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError,
   ///         NotPositiveDefiniteError.
   explicit RandomWalk(const CovarianceMatrix& process_noise) : process_noise_(process_noise) {
-    if constexpr (N != Dynamic) require_dimension("process_noise", process_noise_.rows(), N, "rows");
+    if constexpr (N != Dynamic)
+      require_dimension("process_noise", process_noise_.rows(), N, "rows");
     require_positive_definite("process_noise", process_noise_, /*allow_semidefinite=*/true);
   }
 

@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
 #include <Eigen/Core>
 #include <Eigen/QR>
-#include <fmt/format.h>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
@@ -86,12 +86,8 @@ class RmsQuadraticTwin {
   [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
     return assemblies_.locator_names();
   }
-  [[nodiscard]] const VectorX& lower_bounds() const noexcept {
-    return assemblies_.lower_bounds();
-  }
-  [[nodiscard]] const VectorX& upper_bounds() const noexcept {
-    return assemblies_.upper_bounds();
-  }
+  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return assemblies_.lower_bounds(); }
+  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return assemblies_.upper_bounds(); }
   [[nodiscard]] const AnalyticAssemblySet& assembly_set() const noexcept { return assemblies_; }
   [[nodiscard]] std::vector<AssemblyId> assemblies() const { return assemblies_.assemblies(); }
   /// H.

@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
@@ -28,9 +28,9 @@ namespace twincal {
 
 struct RuggedTwinOptions {
   AnalyticAssemblyOptions assemblies;
-  double slope = 1.0;         ///< s: the |e_k| kink
-  double ripple = 0.05;       ///< c: amplitude of the ripple
-  double wavelength = 0.1;    ///< λ: period of the ripple
+  double slope = 1.0;       ///< s: the |e_k| kink
+  double ripple = 0.05;     ///< c: amplitude of the ripple
+  double wavelength = 0.1;  ///< λ: period of the ripple
 
   [[nodiscard]] std::optional<std::string> validate() const {
     if (auto problem = assemblies.validate()) return "assemblies." + *problem;
@@ -64,12 +64,8 @@ class RuggedTwin {
   [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
     return assemblies_.locator_names();
   }
-  [[nodiscard]] const VectorX& lower_bounds() const noexcept {
-    return assemblies_.lower_bounds();
-  }
-  [[nodiscard]] const VectorX& upper_bounds() const noexcept {
-    return assemblies_.upper_bounds();
-  }
+  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return assemblies_.lower_bounds(); }
+  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return assemblies_.upper_bounds(); }
   [[nodiscard]] const AnalyticAssemblySet& assembly_set() const noexcept { return assemblies_; }
   [[nodiscard]] std::vector<AssemblyId> assemblies() const { return assemblies_.assemblies(); }
 

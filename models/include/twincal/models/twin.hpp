@@ -48,11 +48,10 @@ concept Twin = requires(const T& twin, const typename T::Assembly& assembly,
 /// Analytic twins know them exactly; an FEM twin would get them from an individualized
 /// optimizer run once per assembly.
 template <typename T>
-concept TwinWithOptimum =
-    Twin<T> && requires(const T& twin, const typename T::Assembly& assembly) {
-      { twin.optimum(assembly) } -> std::convertible_to<VectorX>;
-      { twin.optimal_quality(assembly) } -> std::convertible_to<double>;
-    };
+concept TwinWithOptimum = Twin<T> && requires(const T& twin, const typename T::Assembly& assembly) {
+  { twin.optimum(assembly) } -> std::convertible_to<VectorX>;
+  { twin.optimal_quality(assembly) } -> std::convertible_to<double>;
+};
 
 /// Checks a single control for a twin of `dimension` locators.
 /// @throws DimensionMismatchError "control: size is …; rule: must equal d".

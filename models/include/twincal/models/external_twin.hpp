@@ -1,0 +1,436 @@
+#pragma once
+/// @file
+/// `ExternalTwin`: a twin implemented by any executable that speaks JSON lines on stdin/stdout,
+/// so a real twin (an FEM program behind a wrapper script) plugs in without recompiling.
+///
+/// Protocol (one JSON object per line, UTF-8, '\n'-terminated, in both directions):
+///   request  {"assembly": <any JSON value>, "controls": [[u_1, …, u_d], …]}   (k ≥ 1 controls)
+///   reply    {"qualities": [q_1, …, q_k]}    numbers, in request order; null for a quality the
+///                                           twin could not compute (reported as non-finite)
+///        or  {"error": "<message>"}          the twin refuses this request
+/// The child is started once (argv `options.command`, its stdin and stdout connected to one
+/// socket, stderr inherited) and kept for every request. Every request has a deadline
+/// (`timeout`, plus `startup_grace` for the first request after a start). Failures:
+///   - the child cannot be started                         → start_failed
+///   - it exits or closes its stdout during a request      → crashed      (restarted on next use)
+///   - no complete reply line before the deadline          → timeout      (killed, restarted)
+///   - a reply that is not the JSON above                   → malformed_reply (killed, restarted)
+///   - a reply with the wrong number of qualities           → wrong_count  (kept: the line
+///                                                                          framing is intact)
+///   - an {"error": …} reply                                → twin_error   (kept)
+/// each as an ExternalTwinError carrying the assembly and the controls of the request. The child
+/// runs in its own process group, so killing it also kills programs it started. Requests are
+/// serialized by a mutex: the twin may be shared by threads, one request is in flight at a time.
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/validate.hpp"
+#include "twincal/models/twin.hpp"
+
+extern char** environ;  // NOLINT: POSIX, passed to the child unchanged
+
+namespace twincal {
+
+struct ExternalTwinOptions {
+  std::vector<std::string> command;           ///< argv; command[0] is looked up in PATH if bare
+  std::vector<std::string> locator_names;     ///< d names (d = control dimension)
+  VectorX lower_bounds;                       ///< d entries; empty means −∞
+  VectorX upper_bounds;                       ///< d entries; empty means +∞
+  std::chrono::milliseconds timeout{10'000};  ///< longest wait for one reply
+  std::chrono::milliseconds startup_grace{10'000};  ///< extra wait for a freshly started child
+  std::chrono::milliseconds shutdown_grace{200};    ///< wait for a clean exit before SIGKILL
+
+  [[nodiscard]] std::optional<std::string> validate() const {
+    if (command.empty() || command.front().empty()) {
+      return "command is empty; rule: must name an executable";
+    }
+    if (locator_names.empty()) return "locator_names is empty; rule: must name >= 1 locator";
+    const auto d = locator_names.size();
+    if (lower_bounds.size() != 0 && static_cast<std::size_t>(lower_bounds.size()) != d) {
+      return fmt::format("lower_bounds has {} entries; rule: must be empty or have {}",
+                         lower_bounds.size(), d);
+    }
+    if (upper_bounds.size() != 0 && static_cast<std::size_t>(upper_bounds.size()) != d) {
+      return fmt::format("upper_bounds has {} entries; rule: must be empty or have {}",
+                         upper_bounds.size(), d);
+    }
+    if (timeout.count() <= 0)
+      return fmt::format("timeout is {} ms; rule: must be > 0", timeout.count());
+    if (startup_grace.count() < 0 || shutdown_grace.count() < 0) {
+      return fmt::format("startup_grace and shutdown_grace are {} and {} ms; rule: must be >= 0",
+                         startup_grace.count(), shutdown_grace.count());
+    }
+    return std::nullopt;
+  }
+};
+
+/// What went wrong with an external twin.
+enum class ExternalTwinFailure {
+  start_failed,     ///< the executable could not be started
+  crashed,          ///< the child exited or closed its output during a request
+  timeout,          ///< no reply before the deadline (the child was killed)
+  malformed_reply,  ///< the reply was not the protocol's JSON (the child was killed)
+  wrong_count,      ///< the reply had a different number of qualities than controls
+  twin_error,       ///< the child answered {"error": …}
+};
+
+[[nodiscard]] constexpr std::string_view to_string(ExternalTwinFailure failure) noexcept {
+  switch (failure) {
+    case ExternalTwinFailure::start_failed:
+      return "could not start";
+    case ExternalTwinFailure::crashed:
+      return "crashed";
+    case ExternalTwinFailure::timeout:
+      return "timed out";
+    case ExternalTwinFailure::malformed_reply:
+      return "malformed reply";
+    case ExternalTwinFailure::wrong_count:
+      return "wrong number of qualities";
+    case ExternalTwinFailure::twin_error:
+      return "reported an error";
+  }
+  return "unknown failure";
+}
+
+class ExternalTwinError : public Error {
+ public:
+  ExternalTwinError(ExternalTwinFailure failure, std::string assembly, MatrixX controls,
+                    const std::string& detail)
+      : Error("twin", fmt::format("twin: external twin {}: {} (request: assembly {}, {} "
+                                  "control(s))",
+                                  to_string(failure), detail, assembly, controls.cols())),
+        failure_(failure),
+        assembly_(std::move(assembly)),
+        controls_(std::move(controls)) {}
+
+  [[nodiscard]] ExternalTwinFailure failure() const noexcept { return failure_; }
+  /// The request's assembly, as JSON text.
+  [[nodiscard]] const std::string& assembly() const noexcept { return assembly_; }
+  /// The request's d × k controls.
+  [[nodiscard]] const MatrixX& controls() const noexcept { return controls_; }
+
+ private:
+  ExternalTwinFailure failure_;
+  std::string assembly_;
+  MatrixX controls_;
+};
+
+class ExternalTwin {
+ public:
+  using Assembly = nlohmann::json;
+  using Clock = std::chrono::steady_clock;
+
+  /// Starts the child.
+  /// @throws InvalidArgumentError for invalid options; ExternalTwinError(start_failed).
+  explicit ExternalTwin(ExternalTwinOptions options) : options_(std::move(options)) {
+    require_valid("options", options_);
+    const auto d = static_cast<Index>(options_.locator_names.size());
+    if (options_.lower_bounds.size() == 0) {
+      options_.lower_bounds = VectorX::Constant(d, -std::numeric_limits<double>::infinity());
+    }
+    if (options_.upper_bounds.size() == 0) {
+      options_.upper_bounds = VectorX::Constant(d, std::numeric_limits<double>::infinity());
+    }
+    const std::lock_guard lock(mutex_);
+    start(Assembly(nullptr), MatrixX(d, 0));
+  }
+
+  ExternalTwin(const ExternalTwin&) = delete;
+  ExternalTwin& operator=(const ExternalTwin&) = delete;
+
+  /// Closes the child's input, waits `shutdown_grace` for it to exit, then kills it.
+  ~ExternalTwin() {
+    const std::lock_guard lock(mutex_);
+    stop(/*graceful=*/true);
+  }
+
+  [[nodiscard]] Index control_dimension() const noexcept {
+    return static_cast<Index>(options_.locator_names.size());
+  }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
+    return options_.locator_names;
+  }
+  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return options_.lower_bounds; }
+  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return options_.upper_bounds; }
+  [[nodiscard]] const ExternalTwinOptions& options() const noexcept { return options_; }
+
+  /// How many times the child was started (1 after construction; +1 per restart).
+  [[nodiscard]] int starts() const {
+    const std::lock_guard lock(mutex_);
+    return starts_;
+  }
+  /// The running child's process id, if one is running.
+  [[nodiscard]] std::optional<pid_t> process_id() const {
+    const std::lock_guard lock(mutex_);
+    return running() ? std::optional<pid_t>(pid_) : std::nullopt;
+  }
+
+  /// Q(x, u): one request with one control.
+  [[nodiscard]] double quality(const Assembly& assembly,
+                               const Eigen::Ref<const VectorX>& control) const {
+    require_control(control, control_dimension());
+    double value = 0.0;
+    Eigen::Map<VectorX> out(&value, 1);
+    quality_batch(assembly, control, out);
+    return value;
+  }
+
+  /// One request with every column of `controls`; a null quality comes back as NaN.
+  /// @throws DimensionMismatchError for bad shapes; ExternalTwinError on a failure.
+  void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const {
+    require_control_batch(controls, out, control_dimension());
+    if (controls.cols() == 0) return;
+    nlohmann::json request = {{"assembly", assembly}, {"controls", nlohmann::json::array()}};
+    for (Index j = 0; j < controls.cols(); ++j) {
+      nlohmann::json control = nlohmann::json::array();
+      for (Index i = 0; i < controls.rows(); ++i) control.push_back(controls(i, j));
+      request["controls"].push_back(std::move(control));
+    }
+    const std::string line = request.dump() + '\n';
+
+    const std::lock_guard lock(mutex_);
+    const auto fail = [&](ExternalTwinFailure failure, const std::string& detail) {
+      return ExternalTwinError(failure, assembly.dump(), controls, detail);
+    };
+    if (running() && !buffer_.empty()) {
+      // A correct child never writes without a request: the stream cannot be trusted.
+      const std::string unsolicited = buffer_;
+      const std::string ended = stop(/*graceful=*/false);
+      throw fail(ExternalTwinFailure::malformed_reply,
+                 fmt::format("unrequested output \"{}\" before the request; the child {} and "
+                             "will be restarted",
+                             unsolicited.substr(0, 200), ended));
+    }
+    if (!running()) start(assembly, controls);
+    const Clock::time_point deadline =
+        Clock::now() + options_.timeout +
+        (answered_ ? std::chrono::milliseconds{0} : options_.startup_grace);
+    send_all(line, deadline, fail);
+    const std::string reply = receive_line(deadline, fail);
+    answered_ = true;
+    parse_reply(reply, out, fail);
+  }
+
+ private:
+  [[nodiscard]] bool running() const noexcept { return pid_ > 0; }
+
+  // Must hold mutex_. Starts the child with stdin and stdout on one end of a socket pair.
+  void start(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls) const {
+    int sockets[2] = {-1, -1};
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0) {
+      throw ExternalTwinError(ExternalTwinFailure::start_failed, assembly.dump(), controls,
+                              fmt::format("socketpair failed: {}", std::strerror(errno)));
+    }
+    std::vector<char*> argv;
+    for (const std::string& arg : options_.command) argv.push_back(const_cast<char*>(arg.c_str()));
+    argv.push_back(nullptr);
+
+    posix_spawn_file_actions_t actions;
+    posix_spawnattr_t attributes;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawnattr_init(&attributes);
+    // dup2 clears close-on-exec on the targets: the child keeps fds 0 and 1, nothing else.
+    posix_spawn_file_actions_adddup2(&actions, sockets[1], STDIN_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, sockets[1], STDOUT_FILENO);
+    sigset_t defaults;
+    sigemptyset(&defaults);
+    sigaddset(&defaults, SIGPIPE);
+    sigset_t empty;
+    sigemptyset(&empty);
+    posix_spawnattr_setsigdefault(&attributes, &defaults);
+    posix_spawnattr_setsigmask(&attributes, &empty);
+    posix_spawnattr_setpgroup(&attributes, 0);
+    posix_spawnattr_setflags(
+        &attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
+    pid_t pid = -1;
+    const int status =
+        ::posix_spawnp(&pid, argv.front(), &actions, &attributes, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
+    ::close(sockets[1]);
+    if (status != 0) {
+      ::close(sockets[0]);
+      throw ExternalTwinError(
+          ExternalTwinFailure::start_failed, assembly.dump(), controls,
+          fmt::format("\"{}\": {}", options_.command.front(), std::strerror(status)));
+    }
+    ::fcntl(sockets[0], F_SETFL, ::fcntl(sockets[0], F_GETFL) | O_NONBLOCK);
+    pid_ = pid;
+    socket_ = sockets[0];
+    buffer_.clear();
+    answered_ = false;
+    ++starts_;
+  }
+
+  // Must hold mutex_. Ends the child: gracefully (close its input, wait shutdown_grace) or at
+  // once; either way it is reaped. Returns how it ended ("exited with status 3").
+  std::string stop(bool graceful) const noexcept {
+    if (!running()) return "not running";
+    ::close(socket_);
+    socket_ = -1;
+    int status = 0;
+    pid_t reaped = 0;
+    if (graceful) {
+      const Clock::time_point until = Clock::now() + options_.shutdown_grace;
+      while ((reaped = ::waitpid(pid_, &status, WNOHANG)) == 0 && Clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds{1});
+      }
+    }
+    if (reaped == 0) {
+      ::kill(-pid_, SIGKILL);  // the whole process group: programs the child started too
+      while ((reaped = ::waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {
+      }
+    } else {
+      ::kill(-pid_, SIGKILL);  // leftovers of the group, if any (ESRCH otherwise)
+    }
+    pid_ = -1;
+    buffer_.clear();
+    if (reaped < 0) return "could not be reaped";
+    if (WIFEXITED(status)) return fmt::format("exited with status {}", WEXITSTATUS(status));
+    if (WIFSIGNALED(status)) return fmt::format("was killed by signal {}", WTERMSIG(status));
+    return "ended";
+  }
+
+  // Waits for `events` on the socket until `deadline`; false on timeout.
+  [[nodiscard]] bool wait_for(short events, Clock::time_point deadline) const {
+    while (true) {
+      const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now());
+      if (left.count() <= 0) return false;
+      pollfd descriptor{socket_, events, 0};
+      const int ready = ::poll(&descriptor, 1, static_cast<int>(left.count()));
+      if (ready > 0) return true;
+      if (ready < 0 && errno != EINTR) return true;  // let the read or write report the error
+    }
+  }
+
+  template <typename Fail>
+  void send_all(std::string_view data, Clock::time_point deadline, const Fail& fail) const {
+    while (!data.empty()) {
+      const ssize_t sent = ::send(socket_, data.data(), data.size(), MSG_NOSIGNAL);
+      if (sent > 0) {
+        data.remove_prefix(static_cast<std::size_t>(sent));
+        continue;
+      }
+      if (sent < 0 && errno == EINTR) continue;
+      if (sent < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+        if (wait_for(POLLOUT, deadline)) continue;
+        const std::string ended = stop(/*graceful=*/false);
+        throw fail(
+            ExternalTwinFailure::timeout,
+            fmt::format("the request was not read within the deadline; the child {}", ended));
+      }
+      const std::string reason = std::strerror(errno);
+      const std::string ended = stop(/*graceful=*/true);
+      throw fail(ExternalTwinFailure::crashed,
+                 fmt::format("writing the request failed ({}); the child {}", reason, ended));
+    }
+  }
+
+  template <typename Fail>
+  std::string receive_line(Clock::time_point deadline, const Fail& fail) const {
+    char chunk[4096];
+    while (true) {
+      if (const auto newline = buffer_.find('\n'); newline != std::string::npos) {
+        std::string line = buffer_.substr(0, newline);
+        buffer_.erase(0, newline + 1);
+        return line;
+      }
+      const ssize_t received = ::recv(socket_, chunk, sizeof chunk, 0);
+      if (received > 0) {
+        buffer_.append(chunk, static_cast<std::size_t>(received));
+        continue;
+      }
+      if (received < 0 && errno == EINTR) continue;
+      if (received < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+        if (wait_for(POLLIN, deadline)) continue;
+        const auto waited = options_.timeout.count();
+        const std::string ended = stop(/*graceful=*/false);
+        throw fail(ExternalTwinFailure::timeout,
+                   fmt::format("no reply within {} ms; the child {}", waited, ended));
+      }
+      const std::string reason =
+          received == 0 ? std::string("end of output") : std::string(std::strerror(errno));
+      const std::string partial = buffer_;
+      const std::string ended = stop(/*graceful=*/true);
+      throw fail(ExternalTwinFailure::crashed,
+                 fmt::format("{} before a complete reply{}; the child {}", reason,
+                             partial.empty() ? "" : fmt::format(" (got \"{}\")", partial), ended));
+    }
+  }
+
+  template <typename Fail>
+  void parse_reply(const std::string& line, Eigen::Ref<VectorX> out, const Fail& fail) const {
+    const auto malformed = [&](std::string_view why) {
+      const std::string ended = stop(/*graceful=*/false);
+      constexpr std::size_t shown = 200;
+      return fail(ExternalTwinFailure::malformed_reply,
+                  fmt::format("{}: \"{}\"; the child {} and will be restarted", why,
+                              line.substr(0, shown), ended));
+    };
+    const nlohmann::json reply = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (reply.is_discarded()) throw malformed("the reply is not JSON");
+    if (!reply.is_object()) throw malformed("the reply is not a JSON object");
+    if (const auto error = reply.find("error"); error != reply.end()) {
+      throw fail(ExternalTwinFailure::twin_error,
+                 error->is_string() ? error->get<std::string>() : error->dump());
+    }
+    const auto qualities = reply.find("qualities");
+    if (qualities == reply.end() || !qualities->is_array()) {
+      throw malformed("the reply has no \"qualities\" array");
+    }
+    if (static_cast<Index>(qualities->size()) != out.size()) {
+      throw fail(ExternalTwinFailure::wrong_count,
+                 fmt::format("the reply has {} qualities; rule: must have {}, one per control",
+                             qualities->size(), out.size()));
+    }
+    for (Index j = 0; j < out.size(); ++j) {
+      const nlohmann::json& q = (*qualities)[static_cast<std::size_t>(j)];
+      if (q.is_number()) {
+        out(j) = q.get<double>();
+      } else if (q.is_null()) {
+        out(j) = std::numeric_limits<double>::quiet_NaN();
+      } else {
+        throw malformed(fmt::format("quality {} is not a number or null", j));
+      }
+    }
+  }
+
+  ExternalTwinOptions options_;
+  mutable std::mutex mutex_;
+  mutable pid_t pid_ = -1;
+  mutable int socket_ = -1;
+  mutable std::string buffer_;     // bytes received after the last complete line
+  mutable bool answered_ = false;  // the running child has answered at least once
+  mutable int starts_ = 0;
+};
+
+static_assert(Twin<ExternalTwin>);
+
+}  // namespace twincal

@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""A twin for ExternalTwin's tests, speaking twincal's JSON-lines protocol.
+
+Each request {"assembly": A, "controls": [[u_1, ..., u_d], ...]} gets the reply
+{"qualities": [sqrt(A.q0 + sum_i (u_i - A.a_i)^2), ...]}. The assembly may ask the twin to
+misbehave on purpose with A.mode:
+  "crash"        exit with status 3 without replying
+  "garbage"      reply with a line that is not JSON
+  "hang"         sleep for a minute without replying
+  "wrong_count"  reply with one quality too many
+  "error"        reply {"error": ...}
+  "null"         reply null for every quality (a value the twin could not compute)
+  "pid"          reply with the process id as every quality (tests restarts)
+"""
+import json
+import math
+import os
+import sys
+import time
+
+
+def main():
+    while True:
+        line = sys.stdin.readline()
+        if not line:
+            return
+        request = json.loads(line)
+        assembly = request["assembly"]
+        controls = request["controls"]
+        mode = assembly.get("mode", "normal")
+        if mode == "crash":
+            os._exit(3)
+        if mode == "garbage":
+            reply = "this is not json"
+        elif mode == "hang":
+            time.sleep(60)
+            continue
+        elif mode == "error":
+            reply = json.dumps({"error": "assembly rejected on purpose"})
+        elif mode == "null":
+            reply = json.dumps({"qualities": [None] * len(controls)})
+        elif mode == "pid":
+            reply = json.dumps({"qualities": [os.getpid()] * len(controls)})
+        else:
+            q0, a = assembly["q0"], assembly["a"]
+            qualities = [math.sqrt(q0 + sum((ui - ai) ** 2 for ui, ai in zip(u, a)))
+                         for u in controls]
+            if mode == "wrong_count":
+                qualities.append(0.0)
+            reply = json.dumps({"qualities": qualities})
+        sys.stdout.write(reply + "\n")
+        sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
