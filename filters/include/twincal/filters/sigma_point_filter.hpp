@@ -1,0 +1,335 @@
+#pragma once
+/// @file
+/// `SigmaPointFilter<StateModel, MeasurementModel, Scheme>`: the sigma-point Kalman filter of the
+/// paper's Sec. 2.3.1 over the offset state δu, with a scalar black-box measurement whose inputs
+/// (assembly x_t, control u_t) arrive at update time. The scheme (a member policy) makes it a
+/// UKF (MerweScaledSigmaPoints, eq. (11)), a CKF (SphericalRadialSigmaPoints) or anything else
+/// that satisfies SigmaPointScheme.
+///
+/// predict (eq. (5c) for the random walk):
+///   χ_i* = f(χ_i),  x⁻ = Σ Wm_i χ_i*,  P⁻ = Σ Wc_i (χ_i* − x⁻)(χ_i* − x⁻)ᵀ + Q,
+///   then the update points are redrawn from (x⁻, P⁻) or are the χ_i* (SigmaPointRefresh).
+/// update with z (eq. (11)):
+///   γ_i = h(χ_i; x_t, u_t),  ẑ = Σ Wm_i γ_i,  S = Σ Wc_i (γ_i − ẑ)² + R,
+///   Pxz = Σ Wc_i (χ_i − x⁻)(γ_i − ẑ),  K = Pxz/S,  x⁺ = x⁻ + K (z − ẑ),  P⁺ = P⁻ − K S Kᵀ.
+///
+/// `update(z, inputs)` is `commit(preview(inputs), z)`: the preview computes everything that does
+/// not depend on z (one batch of measurement evaluations, P⁺, its factor), so a controller can
+/// preview many candidate controls and commit the chosen one without evaluating h again.
+///
+/// Errors: bad arguments, non-finite model outputs, a non-finite z and failed factorizations throw
+/// typed twincal errors before any member changes (strong guarantee). Fixed sizes allocate
+/// nothing per step (the error paths aside).
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include <fmt/format.h>
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/cholesky.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/symmetrize.hpp"
+#include "twincal/core/validate.hpp"
+#include "twincal/filters/filter_state_json.hpp"
+#include "twincal/filters/measurement_model.hpp"
+#include "twincal/filters/measurement_preview.hpp"
+#include "twincal/filters/sigma_point_filter_options.hpp"
+#include "twincal/filters/sigma_point_scheme.hpp"
+#include "twincal/filters/state_model.hpp"
+#include "twincal/filters/unscented_transform.hpp"
+
+namespace twincal {
+
+/// The quantities of the last committed update (all zero before the first).
+template <int N>
+struct UpdateRecord {
+  double innovation = 0.0;           ///< y = z − ẑ
+  double innovation_variance = 0.0;  ///< S
+  Vector<N> gain;                    ///< K
+  double log_likelihood = 0.0;       ///< log N(y; 0, S)
+};
+
+template <StateModel SM, MeasurementModel MM, SigmaPointScheme Scheme>
+requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class SigmaPointFilter {
+ public:
+  static constexpr int dimension_at_compile_time = SM::dimension_at_compile_time;
+  static constexpr int points_at_compile_time =
+      Scheme::points_at_compile_time(dimension_at_compile_time);
+  using StateVector = Vector<dimension_at_compile_time>;
+  using CovarianceMatrix = SquareMatrix<dimension_at_compile_time>;
+  using PointMatrix = Matrix<dimension_at_compile_time, points_at_compile_time>;
+  using WeightVector = Vector<points_at_compile_time>;
+  using Inputs = typename MM::Inputs;
+  using Preview = MeasurementPreview<dimension_at_compile_time, points_at_compile_time>;
+  using Record = UpdateRecord<dimension_at_compile_time>;
+
+  static constexpr std::string_view json_format = "twincal.sigma_point_filter";
+
+  /// Starts from N(initial_state, initial_covariance).
+  /// @throws InvalidArgumentError (options; the scheme does not admit the dimension; R <= 0),
+  ///         DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError (P0 not symmetric
+  ///         positive definite and the repair policy does not fix it).
+  SigmaPointFilter(SM state_model, MM measurement_model, Scheme scheme,
+                   const StateVector& initial_state, const CovarianceMatrix& initial_covariance,
+                   SigmaPointFilterOptions options = {})
+      : state_model_(std::move(state_model)),
+        measurement_model_(std::move(measurement_model)),
+        scheme_(std::move(scheme)),
+        options_(options) {
+    require_valid("options", options_);
+    const Index n = state_model_.dimension();
+    if constexpr (dimension_at_compile_time != Dynamic) {
+      require_dimension("state_model.dimension()", n, dimension_at_compile_time);
+    }
+    if constexpr (requires { measurement_model_.dimension(); }) {
+      require_dimension("measurement_model.dimension()", measurement_model_.dimension(), n);
+    }
+    require_dimension("initial_state", initial_state.size(), n);
+    require_finite("initial_state", initial_state);
+    require_shape("initial_covariance", initial_covariance, n, n);
+    require_symmetric("initial_covariance", initial_covariance);
+    require_shape("process_noise", state_model_.process_noise(), n, n);
+    require_finite("process_noise", state_model_.process_noise());
+    require_finite("noise_variance", measurement_model_.noise_variance());
+    require_positive("noise_variance", measurement_model_.noise_variance());
+
+    const Index m = scheme_.num_points(n);
+    mean_weights_.resize(m);
+    covariance_weights_.resize(m);
+    scheme_.weights(n, mean_weights_, covariance_weights_);
+
+    x_ = initial_state;
+    P_ = initial_covariance;
+    points_.resize(n, m);
+    draw_points(x_, P_, "initial_covariance", points_);
+    last_update_.gain = StateVector::Zero(n);
+  }
+
+  // --- the filter --------------------------------------------------------------------------
+
+  /// Time update: propagates the sigma points through f and forms (x⁻, P⁻) with Q added.
+  /// @throws NonFiniteError (f or Q not finite), DimensionMismatchError (Q's shape),
+  ///         NotPositiveDefiniteError (redraw: P⁻ cannot be factored under the repair policy).
+  void predict() {
+    const Index n = dimension();
+    const auto& process_noise = state_model_.process_noise();
+    require_shape("process_noise", process_noise, n, n);
+    require_finite("process_noise", process_noise);
+
+    PointMatrix propagated(n, num_points());
+    propagate_points(state_model_, points_, propagated);
+    StateVector prior_mean(n);
+    prior_mean.noalias() = propagated * mean_weights_;
+    CovarianceMatrix prior_covariance =
+        weighted_covariance(propagated, covariance_weights_, prior_mean);
+    prior_covariance += process_noise;
+    if (options_.symmetrize) symmetrize(prior_covariance);
+
+    if (options_.refresh == SigmaPointRefresh::redraw) {
+      PointMatrix redrawn(n, num_points());
+      draw_points(prior_mean, prior_covariance, "prior covariance", redrawn);
+      points_ = redrawn;
+    } else {
+      points_ = propagated;
+    }
+    x_ = prior_mean;
+    P_ = prior_covariance;
+    ++revision_;
+  }
+
+  /// The update for `inputs` without committing it: evaluates h at the current sigma points
+  /// (one batch call when the model has `measure_batch`), then `preview(values)`.
+  /// @throws as the measurement model and `preview(values)`.
+  [[nodiscard]] Preview preview(const Inputs& inputs) const {
+    WeightVector values(num_points());
+    evaluate_measurements(measurement_model_, points_, inputs, values);
+    return preview(values);
+  }
+
+  /// The update given the measurement values γ_i = h(χ_i) at `sigma_points()` (e.g. from a
+  /// controller's batch over several candidate controls): ẑ, S, Pxz, K and P⁺ with its factor.
+  /// @throws DimensionMismatchError, NonFiniteError (a value), NotPositiveDefiniteError (S <= 0,
+  ///         or P⁺ cannot be factored under the repair policy).
+  template <typename Derived>
+  [[nodiscard]] Preview preview(const Eigen::MatrixBase<Derived>& values) const {
+    Preview p;
+    measurement_statistics(points_, x_, mean_weights_, covariance_weights_, values,
+                           measurement_model_.noise_variance(), p);
+    if (options_.joseph_form) {
+      p.posterior_covariance = joseph_posterior(p);
+    } else {
+      p.posterior_covariance = P_;
+      p.posterior_covariance.noalias() -= p.gain * (p.innovation_variance * p.gain.transpose());
+    }
+    if (options_.symmetrize) symmetrize(p.posterior_covariance);
+    CholeskyResult<dimension_at_compile_time> factored =
+        cholesky(p.posterior_covariance, options_.factorization, "posterior covariance");
+    if (factored.report.repaired()) p.posterior_covariance = factored.factor.covariance();
+    p.posterior_factor = factored.factor.lower();
+    p.factorization = factored.report;
+    p.revision = revision_;
+    return p;
+  }
+
+  /// Completes a previewed update with the measurement z: x⁺ = x⁻ + K (z − ẑ), P⁺ from the
+  /// preview, new sigma points from (x⁺, L⁺). Evaluates nothing.
+  /// @throws InvalidArgumentError (the preview is not of the current state), NonFiniteError (z).
+  void commit(const Preview& preview, double z) {
+    if (preview.revision != revision_) {
+      throw InvalidArgumentError(
+          "preview", fmt::format("preview: was computed at filter revision {}, the filter is at "
+                                 "revision {}; rule: commit only a preview of the current state "
+                                 "(predict, commit and restore invalidate previews)",
+                                 preview.revision, revision_));
+    }
+    require_finite("z", z);
+    const double innovation = z - preview.predicted_measurement;
+    StateVector posterior_mean = x_;
+    posterior_mean.noalias() += preview.gain * innovation;
+    require_finite("posterior state", posterior_mean);
+    PointMatrix next(dimension(), num_points());
+    scheme_.generate(posterior_mean, preview.posterior_factor, next);
+
+    x_ = posterior_mean;
+    P_ = preview.posterior_covariance;
+    points_ = next;
+    last_update_.innovation = innovation;
+    last_update_.innovation_variance = preview.innovation_variance;
+    last_update_.gain = preview.gain;
+    last_update_.log_likelihood =
+        innovation_log_likelihood(innovation, preview.innovation_variance);
+    ++revision_;
+    ++updates_;
+  }
+
+  /// Measurement update with z for `inputs`: `commit(preview(inputs), z)`.
+  void update(double z, const Inputs& inputs) {
+    require_finite("z", z);  // before spending evaluations on a measurement that cannot be used
+    commit(preview(inputs), z);
+  }
+
+  // --- state ---------------------------------------------------------------------------------
+
+  [[nodiscard]] Index dimension() const noexcept { return x_.size(); }
+  [[nodiscard]] Index num_points() const noexcept { return mean_weights_.size(); }
+  /// The mean: x⁻ after predict, x⁺ after update.
+  [[nodiscard]] const StateVector& state() const noexcept { return x_; }
+  /// The covariance: P⁻ after predict, P⁺ after update.
+  [[nodiscard]] const CovarianceMatrix& covariance() const noexcept { return P_; }
+  /// The points the next update evaluates h at (n × M, one per column).
+  [[nodiscard]] const PointMatrix& sigma_points() const noexcept { return points_; }
+  [[nodiscard]] const WeightVector& mean_weights() const noexcept { return mean_weights_; }
+  [[nodiscard]] const WeightVector& covariance_weights() const noexcept {
+    return covariance_weights_;
+  }
+  [[nodiscard]] const Record& last_update() const noexcept { return last_update_; }
+  /// Number of committed updates (the filter's step count).
+  [[nodiscard]] std::uint64_t update_count() const noexcept { return updates_; }
+  /// Changes with every predict, commit and restore; previews carry it.
+  [[nodiscard]] std::uint64_t revision() const noexcept { return revision_; }
+  [[nodiscard]] const SigmaPointFilterOptions& options() const noexcept { return options_; }
+  [[nodiscard]] const SM& state_model() const noexcept { return state_model_; }
+  [[nodiscard]] const MM& measurement_model() const noexcept { return measurement_model_; }
+  [[nodiscard]] const Scheme& scheme() const noexcept { return scheme_; }
+
+  // --- save / restore ------------------------------------------------------------------------
+
+  /// x, P, the update count and the current sigma points (which, after a predict with
+  /// reuse_propagated, are not a function of x and P) as JSON; restores bit-exactly.
+  [[nodiscard]] nlohmann::json save() const {
+    nlohmann::json saved;
+    saved["format"] = json_format;
+    saved["dimension"] = dimension();
+    saved["updates"] = updates_;
+    saved["state"] = json_state::vector_to_json(x_);
+    saved["covariance"] = json_state::columns_to_json(P_);
+    saved["sigma_points"] = json_state::columns_to_json(points_);
+    return saved;
+  }
+
+  /// Restores a state written by `save()` of a filter of the same dimension and scheme.
+  /// Invalidates previews.
+  /// @throws InvalidArgumentError (malformed or foreign JSON), DimensionMismatchError,
+  ///         NonFiniteError, NotPositiveDefiniteError (the covariance) — the filter unchanged.
+  void restore(const nlohmann::json& saved) {
+    const Index n = dimension();
+    json_state::require_header(saved, json_format, n);
+    const std::uint64_t updates = json_state::read_count(saved, "updates");
+    StateVector x(n);
+    json_state::read_vector(json_state::field(saved, "state"), "state", x);
+    CovarianceMatrix p(n, n);
+    json_state::read_columns(json_state::field(saved, "covariance"), "covariance", p);
+    // Round-off asymmetry of a filterpy-style P − K S Kᵀ is legitimate state.
+    require_positive_definite("covariance", p, /*allow_semidefinite=*/false,
+                              /*symmetry_tolerance=*/1e-9);
+    PointMatrix points(n, num_points());
+    json_state::read_columns(json_state::field(saved, "sigma_points"), "sigma_points", points);
+
+    x_ = x;
+    P_ = p;
+    points_ = points;
+    updates_ = updates;
+    last_update_ = Record{0.0, 0.0, StateVector::Zero(n), 0.0};
+    ++revision_;
+  }
+
+ private:
+  // Factors `covariance` (repairing it per the options, in which case the repaired matrix
+  // replaces it) and writes the scheme's points for (mean, L) into `out`.
+  void draw_points(const StateVector& mean, CovarianceMatrix& covariance, std::string_view name,
+                   PointMatrix& out) const {
+    CholeskyResult<dimension_at_compile_time> factored =
+        cholesky(covariance, options_.factorization, name);
+    if (factored.report.repaired()) covariance = factored.factor.covariance();
+    scheme_.generate(mean, factored.factor.lower(), out);
+  }
+
+  // Joseph form with the statistically linearised measurement H = P⁻¹ Pxz (see
+  // SigmaPointFilterOptions::joseph_form).
+  [[nodiscard]] CovarianceMatrix joseph_posterior(const Preview& p) const {
+    const Index n = dimension();
+    const Eigen::LLT<CovarianceMatrix> llt(P_);
+    if (llt.info() != Eigen::Success) {
+      const double lambda_min = smallest_eigenvalue(P_);
+      throw NotPositiveDefiniteError(
+          "covariance",
+          fmt::format("covariance: the Joseph-form update needs P⁻¹ but P has "
+                      "smallest eigenvalue {:.6g}; rule: must be positive definite",
+                      lambda_min),
+          lambda_min);
+    }
+    const StateVector h = llt.solve(p.cross_covariance);
+    const double linearisation = p.measurement_variance - p.cross_covariance.dot(h);
+    const double effective_noise =
+        measurement_model_.noise_variance() + std::max(linearisation, 0.0);
+    CovarianceMatrix a = CovarianceMatrix::Identity(n, n);
+    a.noalias() -= p.gain * h.transpose();
+    CovarianceMatrix posterior(n, n);
+    posterior.noalias() = a * P_ * a.transpose();
+    posterior.noalias() += effective_noise * (p.gain * p.gain.transpose());
+    return posterior;
+  }
+
+  SM state_model_;
+  MM measurement_model_;
+  Scheme scheme_;
+  SigmaPointFilterOptions options_;
+  WeightVector mean_weights_;
+  WeightVector covariance_weights_;
+  StateVector x_;
+  CovarianceMatrix P_;
+  PointMatrix points_;
+  Record last_update_;
+  std::uint64_t updates_ = 0;
+  std::uint64_t revision_ = 0;
+};
+
+}  // namespace twincal

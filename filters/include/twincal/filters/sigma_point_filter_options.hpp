@@ -1,0 +1,75 @@
+#pragma once
+/// @file
+/// Options of SigmaPointFilter and SquareRootSigmaPointFilter: which sigma points the update
+/// uses after a predict, and the numerical safeguards of the covariance update.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "twincal/core/cholesky.hpp"
+
+namespace twincal {
+
+/// Which points the measurement update uses after `predict()`.
+enum class SigmaPointRefresh {
+  /// Draw new points from the prior (x⁻, P⁻), so they carry the process noise Q (filterpy's
+  /// current UnscentedKalmanFilter). Costs one Cholesky factorization per predict.
+  redraw,
+  /// Reuse the propagated points f(χ_i): drawn from the previous posterior, they do not carry Q
+  /// (filterpy 1.4.5's UKF, the release the paper most likely used, and filterpy's CKF).
+  reuse_propagated,
+};
+
+[[nodiscard]] constexpr std::string_view to_string(SigmaPointRefresh refresh) noexcept {
+  switch (refresh) {
+    case SigmaPointRefresh::redraw:
+      return "redraw";
+    case SigmaPointRefresh::reuse_propagated:
+      return "reuse_propagated";
+  }
+  return "unknown";
+}
+
+struct SigmaPointFilterOptions {
+  SigmaPointRefresh refresh = SigmaPointRefresh::redraw;
+
+  /// Replace P by (P + Pᵀ)/2 after each predict and update, removing the round-off asymmetry of
+  /// P − K S Kᵀ. (Standard form only; a square-root factor is symmetric by construction.)
+  bool symmetrize = true;
+
+  /// Update P in Joseph form, P⁺ = (I − K Hᵀ) P (I − K Hᵀ)ᵀ + K R̃ Kᵀ with the statistically
+  /// linearised H = P⁻¹ Pxz and R̃ = R + max(Pzz − Hᵀ P H, 0): equal to P − K S Kᵀ in exact
+  /// arithmetic, but a sum of positive semi-definite terms in floating point. (Standard form
+  /// only.)
+  bool joseph_form = false;
+
+  /// How the covariance factorizations (sigma points, posterior) repair a covariance that is
+  /// not numerically positive definite; `none` throws NotPositiveDefiniteError. A repaired
+  /// covariance replaces the filter's P, so that P and its sigma points agree.
+  CholeskyOptions factorization{};
+
+  /// The options filterpy's filters implement: no symmetrization, P − K S Kᵀ, no repair.
+  [[nodiscard]] static SigmaPointFilterOptions filterpy(SigmaPointRefresh refresh) {
+    SigmaPointFilterOptions options;
+    options.refresh = refresh;
+    options.symmetrize = false;
+    options.joseph_form = false;
+    return options;
+  }
+
+  [[nodiscard]] std::optional<std::string> validate() const {
+    if (refresh != SigmaPointRefresh::redraw && refresh != SigmaPointRefresh::reuse_propagated) {
+      return fmt::format("refresh is {}; it must be redraw or reuse_propagated",
+                         static_cast<int>(refresh));
+    }
+    if (std::optional<std::string> problem = factorization.validate()) {
+      return "factorization." + *problem;
+    }
+    return std::nullopt;
+  }
+};
+
+}  // namespace twincal

@@ -1,0 +1,101 @@
+#pragma once
+/// @file
+/// The pieces of the unscented transform (paper eq. (11)) that SigmaPointFilter and
+/// SquareRootSigmaPointFilter share: propagating points through a state model, weighted moments,
+/// and the measurement statistics of a preview. Every function checks what it consumes for
+/// finiteness and allocates nothing for fixed sizes.
+
+#include <cmath>
+#include <string_view>
+
+#include <fmt/format.h>
+#include <Eigen/Core>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/validate.hpp"
+#include "twincal/filters/measurement_preview.hpp"
+#include "twincal/filters/state_model.hpp"
+
+namespace twincal {
+
+/// Throws NonFiniteError("<name>", …) naming the first sigma point (column) with a NaN or an
+/// infinity; `rule` says what should have been finite.
+template <typename Derived>
+void require_finite_points(std::string_view name, const Eigen::MatrixBase<Derived>& points,
+                           std::string_view rule) {
+  if (points.allFinite()) return;
+  for (Index c = 0; c < points.cols(); ++c) {
+    for (Index r = 0; r < points.rows(); ++r) {
+      if (std::isfinite(points(r, c))) continue;
+      throw NonFiniteError(std::string(name),
+                           fmt::format("{}: entry {} of sigma point {} is {}; rule: {}", name, r, c,
+                                       points(r, c), rule));
+    }
+  }
+}
+
+/// out.col(i) = f(points.col(i)). Throws NonFiniteError when f returns a non-finite value.
+template <StateModel SM, int N, int M>
+void propagate_points(const SM& model, const Matrix<N, M>& points, Matrix<N, M>& out) {
+  Vector<N> state(points.rows());
+  for (Index i = 0; i < points.cols(); ++i) {
+    state = points.col(i);
+    out.col(i) = model.propagate(state);
+  }
+  require_finite_points("propagated sigma points", out,
+                        "the state model must return finite states");
+}
+
+/// Σ Wc_i (χ_i − about)(χ_i − about)ᵀ.
+template <int N, int M>
+[[nodiscard]] SquareMatrix<N> weighted_covariance(const Matrix<N, M>& points,
+                                                  const Vector<M>& covariance_weights,
+                                                  const Vector<N>& about) {
+  const Matrix<N, M> centred = points.colwise() - about;
+  SquareMatrix<N> p = centred * covariance_weights.asDiagonal() * centred.transpose();
+  return p;
+}
+
+/// Fills the z-independent measurement statistics of `preview` from the values γ_i at the
+/// points χ_i (centred on the filter's mean x): ẑ, Pzz, S = Pzz + R, Pxz and K = Pxz/S.
+/// @throws NonFiniteError (a γ_i is not finite), NotPositiveDefiniteError (S <= 0, possible with
+///         negative weights).
+template <int N, int M, typename Values>
+void measurement_statistics(const Matrix<N, M>& points, const Vector<N>& mean,
+                            const Vector<M>& mean_weights, const Vector<M>& covariance_weights,
+                            const Eigen::MatrixBase<Values>& values, double noise_variance,
+                            MeasurementPreview<N, M>& preview) {
+  require_dimension("measurements", values.size(), points.cols());
+  for (Index i = 0; i < values.size(); ++i) {
+    if (std::isfinite(values(i))) continue;
+    throw NonFiniteError("measurements",
+                         fmt::format("measurements: value at sigma point {} is {}; rule: the "
+                                     "measurement function must return finite values",
+                                     i, values(i)));
+  }
+  preview.measurements = values;
+  preview.predicted_measurement = mean_weights.dot(preview.measurements);
+  const Vector<M> deviation = preview.measurements.array() - preview.predicted_measurement;
+  preview.measurement_variance = covariance_weights.dot(deviation.cwiseAbs2());
+  preview.innovation_variance = preview.measurement_variance + noise_variance;
+  if (!(preview.innovation_variance > 0.0)) {
+    throw NotPositiveDefiniteError(
+        "innovation_variance",
+        fmt::format("innovation_variance: S = Pzz + R is {:.6g} (Pzz = {:.6g}, R = {:.6g}); "
+                    "rule: must be > 0 (negative sigma-point weights can make Pzz negative)",
+                    preview.innovation_variance, preview.measurement_variance, noise_variance),
+        preview.innovation_variance);
+  }
+  preview.cross_covariance.noalias() =
+      (points.colwise() - mean) * covariance_weights.cwiseProduct(deviation);
+  preview.gain = preview.cross_covariance / preview.innovation_variance;
+}
+
+/// log N(y; 0, S) of a scalar innovation, the filter's per-step log-likelihood.
+[[nodiscard]] inline double innovation_log_likelihood(double innovation, double variance) {
+  constexpr double two_pi = 6.283185307179586476925286766559;
+  return -0.5 * (std::log(two_pi * variance) + innovation * innovation / variance);
+}
+
+}  // namespace twincal
