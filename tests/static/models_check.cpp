@@ -1,0 +1,112 @@
+// Compile-time checks of the models module's concepts: what each accepts and what it rejects,
+// and that QualityFeedback has the filters' MeasurementModel shape (restated here so the check
+// does not depend on the filters module).
+#include <concepts>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "twincal/models/bouncing_drift.hpp"
+#include "twincal/models/brownian_drift.hpp"
+#include "twincal/models/constant_drift.hpp"
+#include "twincal/models/drift.hpp"
+#include "twincal/models/evaluator.hpp"
+#include "twincal/models/execution.hpp"
+#include "twincal/models/external_twin.hpp"
+#include "twincal/models/locator_subset.hpp"
+#include "twincal/models/parallel_execution.hpp"
+#include "twincal/models/quality_feedback.hpp"
+#include "twincal/models/random_walk.hpp"
+#include "twincal/models/rms_quadratic_twin.hpp"
+#include "twincal/models/rugged_twin.hpp"
+#include "twincal/models/step_drift.hpp"
+#include "twincal/models/twin.hpp"
+
+namespace twincal::static_checks::models {
+
+// --- Twin ------------------------------------------------------------------------------------
+struct MinimalTwin {
+  using Assembly = int;
+  [[nodiscard]] Index control_dimension() const { return 1; }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const { return names; }
+  [[nodiscard]] const VectorX& lower_bounds() const { return bounds; }
+  [[nodiscard]] const VectorX& upper_bounds() const { return bounds; }
+  [[nodiscard]] double quality(int, const Eigen::Ref<const VectorX>&) const { return 0.0; }
+  void quality_batch(int, const Eigen::Ref<const MatrixX>&, Eigen::Ref<VectorX>) const {}
+  std::vector<std::string> names{"u"};
+  VectorX bounds = VectorX::Zero(1);
+};
+struct TwinWithoutBatch {
+  using Assembly = int;
+  [[nodiscard]] Index control_dimension() const { return 1; }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const { return names; }
+  [[nodiscard]] const VectorX& lower_bounds() const { return bounds; }
+  [[nodiscard]] const VectorX& upper_bounds() const { return bounds; }
+  [[nodiscard]] double quality(int, const Eigen::Ref<const VectorX>&) const { return 0.0; }
+  std::vector<std::string> names{"u"};
+  VectorX bounds = VectorX::Zero(1);
+};
+struct TwinWithMutableQuality : MinimalTwin {  // quality must be callable on a const twin
+  [[nodiscard]] double quality(int, const Eigen::Ref<const VectorX>&) { return 0.0; }
+};
+struct TwinWithoutAssembly {
+  [[nodiscard]] Index control_dimension() const { return 1; }
+};
+static_assert(Twin<MinimalTwin>);
+static_assert(!TwinWithOptimum<MinimalTwin>);
+static_assert(!Twin<TwinWithoutBatch>);
+static_assert(!Twin<TwinWithMutableQuality>);
+static_assert(!Twin<TwinWithoutAssembly>);
+static_assert(!Twin<int>);
+static_assert(TwinWithOptimum<RmsQuadraticTwin>);
+static_assert(TwinWithOptimum<RuggedTwin>);
+static_assert(TwinWithOptimum<LocatorSubset<RmsQuadraticTwin>>);
+static_assert(Twin<ExternalTwin> && !TwinWithOptimum<ExternalTwin>);
+// Evaluators are twins themselves (they forward the optimum only through twin()).
+static_assert(Twin<Evaluator<RmsQuadraticTwin>>);
+static_assert(Twin<Evaluator<ExternalTwin, ParallelExecution>>);
+static_assert(Twin<Evaluator<Evaluator<MinimalTwin>>>);
+
+// --- Execution -------------------------------------------------------------------------------
+static_assert(Execution<SerialExecution>);
+static_assert(Execution<ParallelExecution>);
+static_assert(!Execution<int>);
+
+// --- Drift -----------------------------------------------------------------------------------
+struct DriftWithoutAdvance {
+  [[nodiscard]] Index dimension() const { return 1; }
+  [[nodiscard]] Index time() const { return 0; }
+  [[nodiscard]] VectorX offset() const { return VectorX::Zero(1); }
+};
+static_assert(Drift<BouncingDrift<3>> && Drift<BouncingDrift<Dynamic>>);
+static_assert(Drift<BrownianDrift<3>> && Drift<BrownianDrift<Dynamic>>);
+static_assert(Drift<StepDrift<3>> && Drift<ConstantDrift<Dynamic>>);
+static_assert(!Drift<DriftWithoutAdvance>);
+
+// --- The filters' model shapes (interfaces agreement) -----------------------------------------
+template <typename M>
+concept MeasurementModelShape = requires {
+  typename M::Inputs;
+  { M::dimension_at_compile_time } -> std::convertible_to<int>;
+}
+&&requires(const M& model, const Vector<M::dimension_at_compile_time>& state,
+           const typename M::Inputs& inputs, const Eigen::Ref<const MatrixX>& states,
+           Eigen::Ref<VectorX> out) {
+  { model.measure(state, inputs) } -> std::convertible_to<double>;
+  { model.noise_variance() } -> std::convertible_to<double>;
+  model.measure_batch(states, inputs, out);
+};
+template <typename M>
+concept StateModelShape = requires(const M& model, const Vector<M::dimension_at_compile_time>& x) {
+  { M::dimension_at_compile_time } -> std::convertible_to<int>;
+  { model.dimension() } -> std::convertible_to<Index>;
+  { model.propagate(x) } -> std::convertible_to<Vector<M::dimension_at_compile_time>>;
+  { model.process_noise() } -> std::convertible_to<SquareMatrix<M::dimension_at_compile_time>>;
+};
+static_assert(MeasurementModelShape<QualityFeedback<RmsQuadraticTwin, 3>>);
+static_assert(MeasurementModelShape<QualityFeedback<RmsQuadraticTwin, Dynamic>>);
+static_assert(MeasurementModelShape<QualityFeedback<Evaluator<ExternalTwin>, 2>>);
+static_assert(MeasurementModelShape<QualityFeedback<LocatorSubset<RuggedTwin>, 1>>);
+static_assert(StateModelShape<RandomWalk<3>> && StateModelShape<RandomWalk<Dynamic>>);
+
+}  // namespace twincal::static_checks::models
