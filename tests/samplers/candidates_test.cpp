@@ -46,13 +46,13 @@ TYPED_TEST(CandidatesTest, OneBatchIsTheSamplerThroughTheTransformMinusTheBoxOut
   replay.fill(u);
   Matrix<TestFixture::N, Dynamic> expected = transform(u);
   const Index kept = box.keep_inside(expected);
-  EXPECT_EQ(set.drawn, 32);
-  EXPECT_EQ(set.survived, kept);
-  EXPECT_EQ(set.points, expected.leftCols(kept));
+  EXPECT_EQ(set.drawn(), 32);
+  EXPECT_EQ(set.survived(), kept);
+  EXPECT_EQ(set.points(), expected.leftCols(kept));
   EXPECT_EQ(sobol.position(), 32U);
   // 0.1 is 3.16 σ: each coordinate falls outside with probability 0.0016, and the zero point
   // of the sequence is scrambled away from the clipped tail, so nearly all survive.
-  EXPECT_GE(set.survived, 30);
+  EXPECT_GE(set.survived(), 30);
 }
 
 TYPED_TEST(CandidatesTest, KeepDrawingUntilEnoughSurvive) {
@@ -63,12 +63,12 @@ TYPED_TEST(CandidatesTest, KeepDrawingUntilEnoughSurvive) {
   const CandidateSet<TestFixture::N> set =
       draw_candidates(sobol, transform, box, {.count = 32, .keep_drawing = true});
   EXPECT_TRUE(set.complete());
-  EXPECT_EQ(set.points.cols(), 32);
-  EXPECT_GE(set.survived, 32);
-  EXPECT_EQ(set.drawn % 32, 0);
-  EXPECT_GT(set.drawn, 32 * 10);  // expected 32 / 0.056 ≈ 570 points, i.e. ~18 batches
-  EXPECT_EQ(static_cast<Index>(sobol.position()), set.drawn);  // aligned blocks of 32
-  for (Index c = 0; c < set.points.cols(); ++c) EXPECT_TRUE(box.contains(set.points.col(c)));
+  EXPECT_EQ(set.points().cols(), 32);
+  EXPECT_GE(set.survived(), 32);
+  EXPECT_EQ(set.drawn() % 32, 0);
+  EXPECT_GT(set.drawn(), 32 * 10);  // expected 32 / 0.056 ≈ 570 points, i.e. ~18 batches
+  EXPECT_EQ(static_cast<Index>(sobol.position()), set.drawn());  // aligned blocks of 32
+  for (Index c = 0; c < set.points().cols(); ++c) EXPECT_TRUE(box.contains(set.points().col(c)));
 }
 
 TYPED_TEST(CandidatesTest, KeepDrawingIsBoundedAndReportsAShortfall) {
@@ -80,9 +80,37 @@ TYPED_TEST(CandidatesTest, KeepDrawingIsBoundedAndReportsAShortfall) {
   const CandidateSet<TestFixture::N> set = draw_candidates(
       halton, transform, box, {.count = 16, .keep_drawing = true, .max_batches = 5});
   EXPECT_FALSE(set.complete());
-  EXPECT_EQ(set.drawn, 80);
-  EXPECT_EQ(set.survived, 0);
-  EXPECT_EQ(set.points.cols(), 0);
+  EXPECT_EQ(set.drawn(), 80);
+  EXPECT_EQ(set.survived(), 0);
+  EXPECT_EQ(set.points().cols(), 0);
+}
+
+TYPED_TEST(CandidatesTest, RedrawingReusesTheBuffersAndContinuesTheSequence) {
+  const auto transform = TestFixture::paper_transform();
+  const auto box = BoxSet<TestFixture::N>::cube(TestFixture::mean(), 0.1);
+  Sobol sobol(3, TestFixture::sobol_options());
+  CandidateSet<TestFixture::N> set;
+  set.draw(sobol, transform, box, {.count = 32});
+  const Matrix<TestFixture::N, Dynamic> first = set.points();
+  const double* storage = set.points().data();
+  set.draw(sobol, transform, box, {.count = 32});
+  EXPECT_EQ(set.points().data(), storage);  // same buffer: nothing reallocated
+  EXPECT_EQ(sobol.position(), 64U);
+
+  Sobol replay(3, TestFixture::sobol_options());
+  replay.discard(32);
+  const CandidateSet<TestFixture::N> second =
+      draw_candidates(replay, transform, box, {.count = 32});
+  EXPECT_EQ(set.points(), second.points());
+  EXPECT_NE(set.points().leftCols(4), first.leftCols(4));
+
+  // A rejected draw leaves the set as it was.
+  const auto wrong_box = BoxSet<Dynamic>::cube(VectorX::Zero(2), 0.1);
+  if constexpr (TestFixture::N == Dynamic) {
+    EXPECT_THROW(set.draw(sobol, transform, wrong_box), DimensionMismatchError);
+    EXPECT_EQ(set.points(), second.points());
+    EXPECT_EQ(set.drawn(), 32);
+  }
 }
 
 TEST(Candidates, RejectsMismatchesBeforeDrawing) {

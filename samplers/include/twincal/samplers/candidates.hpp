@@ -41,47 +41,75 @@ struct CandidateOptions {
   }
 };
 
-/// Candidates inside the box, one per column, in drawing order.
+/// Candidates inside the box, with the counts that say how they were obtained. A set can be
+/// redrawn in place (`draw`), reusing its buffers: with a fixed N and an unchanged count, a
+/// redraw allocates nothing, so a controller can keep one set per dimension across steps.
 template <int N>
-struct CandidateSet {
-  Matrix<N, Dynamic> points;
-  Index requested = 0;  ///< CandidateOptions::count
-  Index drawn = 0;      ///< points taken from the sampler
-  Index survived = 0;   ///< drawn points inside the box (points holds min(survived, requested))
+class CandidateSet {
+ public:
+  using Points = Matrix<N, Dynamic>;
 
-  /// True when `requested` candidates survived.
-  [[nodiscard]] bool complete() const noexcept { return survived >= requested; }
+  /// The candidates, one per column in drawing order: the first size() points drawn inside the
+  /// box.
+  [[nodiscard]] Eigen::Ref<const Points> points() const { return buffer_.leftCols(size()); }
+  /// Number of candidates, min(survived, requested).
+  [[nodiscard]] Index size() const noexcept { return std::min(survived_, requested_); }
+  /// CandidateOptions::count of the last draw.
+  [[nodiscard]] Index requested() const noexcept { return requested_; }
+  /// Points taken from the sampler.
+  [[nodiscard]] Index drawn() const noexcept { return drawn_; }
+  /// Drawn points that fell inside the box (may exceed requested() within the last batch).
+  [[nodiscard]] Index survived() const noexcept { return survived_; }
+  /// True when requested() candidates survived.
+  [[nodiscard]] bool complete() const noexcept { return survived_ >= requested_; }
+
+  /// Replaces the set by a new draw (see the file comment). Throws InvalidArgumentError for
+  /// invalid options and DimensionMismatchError unless sampler, transform and box have one
+  /// dimension; neither the set nor the sampler changes when it throws before drawing.
+  template <Sampler S>
+  void draw(S& sampler, const GaussianTransform<N>& transform, const BoxSet<N>& box,
+            const CandidateOptions& options = {}) {
+    require_valid("options", options);
+    const Index d = transform.dimension();
+    require_dimension("sampler", static_cast<Index>(sampler.dimension()), d, "dimension");
+    require_dimension("box", box.dimension(), d, "dimension");
+
+    const Index count = options.count;
+    buffer_.resize(d, count);  // no-ops when the size is unchanged
+    mapped_.resize(d, count);
+    uniform_.resize(d, count);
+    requested_ = count;
+    drawn_ = 0;
+    survived_ = 0;
+    const Index batches = options.keep_drawing ? options.max_batches : 1;
+    for (Index b = 0; b < batches && survived_ < count; ++b) {
+      sampler.fill(uniform_);
+      transform.transform(uniform_, mapped_);
+      const Index kept = box.keep_inside(mapped_);
+      const Index stored = std::min(kept, count - survived_);
+      buffer_.middleCols(survived_, stored) = mapped_.leftCols(stored);
+      drawn_ += count;
+      survived_ += kept;
+    }
+  }
+
+ private:
+  Points buffer_;   // requested columns; the first size() hold the candidates
+  Points mapped_;   // one batch after the transform
+  Points uniform_;  // one batch from the sampler (fixed rows map into Ref<MatrixX>)
+  Index requested_ = 0;
+  Index drawn_ = 0;
+  Index survived_ = 0;
 };
 
-/// Draws candidates (see the file comment). Throws InvalidArgumentError for invalid options and
-/// DimensionMismatchError unless sampler, transform and box have one dimension; the sampler is
-/// not advanced when it throws before drawing.
+/// Draws a new candidate set (CandidateSet::draw into a fresh set).
 template <Sampler S, int N>
 [[nodiscard]] CandidateSet<N> draw_candidates(S& sampler, const GaussianTransform<N>& transform,
                                               const BoxSet<N>& box,
                                               const CandidateOptions& options = {}) {
-  require_valid("options", options);
-  const Index d = transform.dimension();
-  require_dimension("sampler", static_cast<Index>(sampler.dimension()), d, "dimension");
-  require_dimension("box", box.dimension(), d, "dimension");
-
-  CandidateSet<N> result;
-  result.requested = options.count;
-  result.points.resize(d, options.count);
-  MatrixX uniform(d, options.count);
-  Matrix<N, Dynamic> batch(d, options.count);
-  const Index batches = options.keep_drawing ? options.max_batches : 1;
-  for (Index b = 0; b < batches && result.survived < options.count; ++b) {
-    sampler.fill(uniform);
-    transform.transform(uniform, batch);
-    const Index kept = box.keep_inside(batch);
-    const Index stored = std::min(kept, options.count - result.survived);
-    result.points.middleCols(result.survived, stored) = batch.leftCols(stored);
-    result.drawn += options.count;
-    result.survived += kept;
-  }
-  result.points.conservativeResize(d, std::min(result.survived, options.count));
-  return result;
+  CandidateSet<N> set;
+  set.draw(sampler, transform, box, options);
+  return set;
 }
 
 }  // namespace twincal
