@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -52,8 +53,12 @@ std::uint64_t rounds_per_millisecond() {
   return rounds;
 }
 
+// The black box: ~1 ms per control, either of CPU work in this process (`waits` = false: an
+// in-process model) or of waiting (`waits` = true: a twin whose work happens elsewhere, e.g. an
+// FEM program on another machine, where threads overlap the waits whatever the local load).
 struct MillisecondTwin {
   using Assembly = int;
+  bool waits = false;
   std::vector<std::string> names{"A", "B", "C"};
   VectorX bounds = VectorX::Ones(3);
   std::uint64_t rounds = rounds_per_millisecond();
@@ -63,6 +68,10 @@ struct MillisecondTwin {
   [[nodiscard]] const VectorX& lower_bounds() const { return bounds; }
   [[nodiscard]] const VectorX& upper_bounds() const { return bounds; }
   [[nodiscard]] double quality(int, const Eigen::Ref<const VectorX>& u) const {
+    if (waits) {
+      std::this_thread::sleep_for(std::chrono::milliseconds{1});
+      return u.squaredNorm();
+    }
     return burn(rounds, 1.0 + u.squaredNorm());
   }
   void quality_batch(int assembly, const Eigen::Ref<const MatrixX>& controls,
@@ -78,8 +87,10 @@ MatrixX controls_for(Index k) {
 }
 
 // Batch of k = 32 controls (2^(2+d) candidates for d = 3, the paper's look-ahead batch).
+// Arguments: batch size, waits (0 = CPU work, 1 = waiting)[, threads].
 void BM_SerialEvaluator(benchmark::State& state) {
-  const MillisecondTwin twin;
+  MillisecondTwin twin;
+  twin.waits = state.range(1) != 0;
   const Evaluator<MillisecondTwin> evaluator(twin);
   const MatrixX controls = controls_for(state.range(0));
   VectorX out(controls.cols());
@@ -90,12 +101,17 @@ void BM_SerialEvaluator(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * controls.cols());
   state.counters["rounds_per_ms"] = static_cast<double>(twin.rounds);
 }
-BENCHMARK(BM_SerialEvaluator)->Arg(32)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SerialEvaluator)
+    ->Args({32, 0})
+    ->Args({32, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_ParallelEvaluator(benchmark::State& state) {
-  const MillisecondTwin twin;
+  MillisecondTwin twin;
+  twin.waits = state.range(1) != 0;
   const Evaluator<MillisecondTwin, ParallelExecution> evaluator(twin,
-                                                                ParallelExecution(state.range(1)));
+                                                                ParallelExecution(state.range(2)));
   const MatrixX controls = controls_for(state.range(0));
   VectorX out(controls.cols());
   for (auto _ : state) {
@@ -105,8 +121,10 @@ void BM_ParallelEvaluator(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * controls.cols());
 }
 BENCHMARK(BM_ParallelEvaluator)
-    ->Args({32, 1})
-    ->Args({32, 2})
+    ->Args({32, 0, 1})
+    ->Args({32, 0, 2})
+    ->Args({32, 1, 2})
+    ->Args({32, 1, 4})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -299,6 +299,10 @@ TEST(Evaluator, ComposesWithQualityFeedbackAndAnalyticTwins) {
   }
   EXPECT_EQ(evaluator.stats().calls, 1U);
   EXPECT_EQ(evaluator.stats().evaluations, 7U);
+  // The twin's exact optimum passes through uncounted (it is not an evaluation of Q).
+  EXPECT_EQ(evaluator.optimum({1, 2}), twin.optimum({1, 2}));
+  EXPECT_EQ(evaluator.optimal_quality({1, 2}), twin.optimal_quality({1, 2}));
+  EXPECT_EQ(evaluator.stats().calls, 1U);
 }
 
 }  // namespace

@@ -62,8 +62,9 @@ static_assert(TwinWithOptimum<RmsQuadraticTwin>);
 static_assert(TwinWithOptimum<RuggedTwin>);
 static_assert(TwinWithOptimum<LocatorSubset<RmsQuadraticTwin>>);
 static_assert(Twin<ExternalTwin> && !TwinWithOptimum<ExternalTwin>);
-// Evaluators are twins themselves (they forward the optimum only through twin()).
-static_assert(Twin<Evaluator<RmsQuadraticTwin>>);
+// Evaluators are twins themselves, and pass a known optimum through.
+static_assert(TwinWithOptimum<Evaluator<RmsQuadraticTwin>>);
+static_assert(Twin<Evaluator<MinimalTwin>> && !TwinWithOptimum<Evaluator<MinimalTwin>>);
 static_assert(Twin<Evaluator<ExternalTwin, ParallelExecution>>);
 static_assert(Twin<Evaluator<Evaluator<MinimalTwin>>>);
 

@@ -101,6 +101,19 @@ class Evaluator {
   [[nodiscard]] const E& execution() const noexcept { return execution_; }
   [[nodiscard]] const EvaluatorOptions& options() const noexcept { return options_; }
 
+  /// u0(x) and z*(x) of a twin that knows them (TwinWithOptimum): passed through uncounted, as
+  /// they are not evaluations of Q, so an evaluator keeps the twin's exact optimum available.
+  [[nodiscard]] decltype(auto) optimum(const Assembly& assembly) const
+    requires TwinWithOptimum<T>
+  {
+    return twin_->optimum(assembly);
+  }
+  [[nodiscard]] double optimal_quality(const Assembly& assembly) const
+    requires TwinWithOptimum<T>
+  {
+    return twin_->optimal_quality(assembly);
+  }
+
   /// Q(x, u), as a batch of one.
   [[nodiscard]] double quality(const Assembly& assembly,
                                const Eigen::Ref<const VectorX>& control) const {
