@@ -29,7 +29,7 @@ struct OptimizationResult {
 /// `minimize(f, start, lower, upper)` returns the best point of f in [lower, upper] it finds
 /// within its budget, starting its search from `start`.
 template <typename O>
-concept Optimizer = requires(O& optimizer, const Objective& objective, const VectorX& start,
+concept Optimizer = requires(const O& optimizer, const Objective& objective, const VectorX& start,
                              const VectorX& lower, const VectorX& upper) {
   { optimizer.minimize(objective, start, lower, upper) } -> std::same_as<OptimizationResult>;
 };

@@ -1,0 +1,66 @@
+#pragma once
+/// @file
+/// `DefaultController<Filter>`: eq. (9), u_t = u0(x_t) + δû_t — the individualized control
+/// corrected by the filter's current offset estimate, with no deliberate exploration. It may
+/// lose track of the offset when the measurements stop exciting the filter (Sec. 2.3.2).
+
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/individual_optimum.hpp"
+#include "twincal/controllers/nlopt_optimizer.hpp"
+#include "twincal/controllers/optimizer.hpp"
+#include "twincal/controllers/proposal_report.hpp"
+#include "twincal/controllers/quality_filter.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/validate.hpp"
+
+namespace twincal {
+
+template <QualityFilter F, Optimizer O = NloptOptimizer>
+class DefaultController {
+ public:
+  using Filter = F;
+  using Twin = std::remove_cvref_t<decltype(std::declval<const F&>().measurement_model().twin())>;
+  using Assembly = typename MeasurementModelOf<F>::Assembly;
+  using ControlVector = typename F::StateVector;
+
+  /// The filter's measurement model refers to the twin; the filter has already checked that
+  /// its dimension is the twin's control dimension.
+  explicit DefaultController(F filter, O optimizer = O{})
+      : filter_(std::move(filter)),
+        optimum_(filter_.measurement_model().twin(), std::move(optimizer)) {}
+
+  /// Predicts the offset one assembly ahead, then proposes u0(x_t) + δû_t.
+  [[nodiscard]] ControlVector propose(const Assembly& assembly) {
+    const IndividualControl u0 = optimum_(assembly);
+    filter_.predict();
+    ControlVector control = u0.control + filter_.state();
+    report_ = ProposalReport{};
+    report_.individual_control = u0.control;
+    report_.optimal_quality = u0.quality;
+    report_.optimizer_evaluations = u0.evaluations;
+    report_.default_control = control;
+    report_.control = control;
+    return control;
+  }
+
+  /// Updates the filter with the measured quality z_t of the applied control u_t.
+  void observe(const Assembly& assembly, const ControlVector& control, double z) {
+    filter_.update(z, {assembly, control});
+  }
+
+  [[nodiscard]] const ControlVector& offset_estimate() const noexcept { return filter_.state(); }
+  [[nodiscard]] MatrixX offset_covariance() const { return filter_.covariance(); }
+  [[nodiscard]] const F& filter() const noexcept { return filter_; }
+  [[nodiscard]] const ProposalReport& last_proposal() const noexcept { return report_; }
+
+ private:
+  F filter_;
+  IndividualOptimum<Twin, O> optimum_;
+  ProposalReport report_;
+};
+
+}  // namespace twincal

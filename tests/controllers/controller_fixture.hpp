@@ -1,0 +1,93 @@
+#pragma once
+// Shared set-up of the controller tests: the RMS-quadratic analytic twin behind a counting
+// evaluator, the paper's random-walk offset model and quality feedback, and filters of each kind.
+
+#include <cstdint>
+#include <stdexcept>
+
+#include "twincal/core/random_stream.hpp"
+#include "twincal/filters/cubature_kalman_filter.hpp"
+#include "twincal/filters/merwe_scaled_sigma_points.hpp"
+#include "twincal/filters/spherical_radial_sigma_points.hpp"
+#include "twincal/filters/unscented_kalman_filter.hpp"
+#include "twincal/models/evaluator.hpp"
+#include "twincal/models/quality_feedback.hpp"
+#include "twincal/models/random_walk.hpp"
+#include "twincal/models/rms_quadratic_twin.hpp"
+
+namespace twincal::testing {
+
+using AnalyticTwin = RmsQuadraticTwin;
+using CountingTwin = Evaluator<AnalyticTwin>;
+
+inline AnalyticTwin make_twin(Index d, std::uint64_t seed = 5) {
+  RmsQuadraticTwinOptions options;
+  options.assemblies.dimension = d;
+  return AnalyticTwin::generate(options, RandomStream(seed));
+}
+
+template <int N>
+using Feedback = QualityFeedback<CountingTwin, N>;
+
+// The paper's filter settings (Sec. 2.4): Σu = 1e-3·I, σz² = 1e-4; Merwe points α=1, β=2, κ=0
+// (non-negative weights).
+inline constexpr double process_variance = 1e-3;
+inline constexpr double measurement_variance = 1e-4;
+inline MerweScaledSigmaPoints merwe() { return MerweScaledSigmaPoints(1.0, 2.0, 0.0); }
+
+template <int N>
+using Ukf = UnscentedKalmanFilter<RandomWalk<N>, Feedback<N>>;
+template <int N>
+using Ckf = CubatureKalmanFilter<RandomWalk<N>, Feedback<N>>;
+template <int N>
+using SquareRootUkf =
+    SquareRootSigmaPointFilter<RandomWalk<N>, Feedback<N>, MerweScaledSigmaPoints>;
+
+// A filter of type F over `twin` starting from N(x0, p0·I).
+template <typename F>
+F make_filter(const CountingTwin& twin, const Vector<F::dimension_at_compile_time>& x0, double p0,
+              double q = process_variance) {
+  constexpr int N = F::dimension_at_compile_time;
+  const Index d = twin.control_dimension();
+  const SquareMatrix<N> covariance = SquareMatrix<N>::Identity(d, d) * p0;
+  if constexpr (std::is_same_v<F, Ckf<N>>) {
+    return F(RandomWalk<N>::isotropic(d, q), Feedback<N>(twin, measurement_variance),
+             SphericalRadialSigmaPoints{}, x0, covariance);
+  } else {
+    return F(RandomWalk<N>::isotropic(d, q), Feedback<N>(twin, measurement_variance), merwe(), x0,
+             covariance);
+  }
+}
+
+// A twin that works like `inner` but throws on batches larger than `max_batch` controls, to make
+// a controller's scoring batch fail while the filter's own updates still work.
+class FailingOnLargeBatches {
+ public:
+  using Assembly = AnalyticTwin::Assembly;
+  FailingOnLargeBatches(const AnalyticTwin& inner, Index max_batch)
+      : inner_(&inner), max_batch_(max_batch) {}
+  [[nodiscard]] Index control_dimension() const { return inner_->control_dimension(); }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const {
+    return inner_->locator_names();
+  }
+  [[nodiscard]] const VectorX& lower_bounds() const { return inner_->lower_bounds(); }
+  [[nodiscard]] const VectorX& upper_bounds() const { return inner_->upper_bounds(); }
+  [[nodiscard]] double quality(const Assembly& x, const Eigen::Ref<const VectorX>& u) const {
+    return inner_->quality(x, u);
+  }
+  void quality_batch(const Assembly& x, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const {
+    if (controls.cols() > max_batch_) throw std::runtime_error("FEM solver crashed");
+    inner_->quality_batch(x, controls, out);
+  }
+  [[nodiscard]] VectorX optimum(const Assembly& x) const { return inner_->optimum(x); }
+  [[nodiscard]] double optimal_quality(const Assembly& x) const {
+    return inner_->optimal_quality(x);
+  }
+
+ private:
+  const AnalyticTwin* inner_;
+  Index max_batch_;
+};
+
+}  // namespace twincal::testing

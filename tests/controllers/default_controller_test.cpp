@@ -1,0 +1,50 @@
+#include "twincal/controllers/default_controller.hpp"
+
+#include <gtest/gtest.h>
+
+#include "controller_fixture.hpp"
+
+namespace twincal {
+namespace {
+
+using testing::AnalyticTwin;
+using testing::CountingTwin;
+using testing::make_filter;
+using testing::make_twin;
+
+static_assert(EstimatingController<DefaultController<testing::Ukf<3>>>);
+static_assert(EstimatingController<DefaultController<testing::Ckf<Dynamic>>>);
+
+TEST(DefaultController, WithZeroOffsetEstimateItAppliesTheIndividualOptimum) {
+  const AnalyticTwin twin = make_twin(3);
+  const CountingTwin counting(twin);
+  using F = testing::Ukf<3>;
+  DefaultController<F> controller(make_filter<F>(counting, Eigen::Vector3d::Zero(), 1e-3));
+  const AssemblyId x{5, 2};
+  const Eigen::Vector3d u = controller.propose(x);
+  EXPECT_EQ(u, twin.optimum(x));  // eq. (9) with δû = 0
+  EXPECT_EQ(controller.last_proposal().optimal_quality, twin.optimal_quality(x));
+  EXPECT_EQ(controller.last_proposal().optimizer_evaluations, 0U);
+  EXPECT_FALSE(controller.last_proposal().fell_back());
+}
+
+TEST(DefaultController, AppliesTheOptimumCorrectedByTheFilterEstimateAndLearns) {
+  const AnalyticTwin twin = make_twin(2);
+  const CountingTwin counting(twin);
+  using F = testing::Ukf<Dynamic>;
+  DefaultController<F> controller(make_filter<F>(counting, Eigen::Vector2d(0.1, -0.2), 1e-3));
+  F reference = controller.filter();
+  const AssemblyId x{0, 9};
+  const Eigen::VectorXd u = controller.propose(x);
+  reference.predict();
+  EXPECT_EQ(u, twin.optimum(x) + reference.state());
+  const EvaluationStats before = counting.stats();
+  controller.observe(x, u, 0.9);
+  EXPECT_EQ((counting.stats() - before).evaluations, 5U);  // one update, 2n+1 sigma points
+  reference.update(0.9, {x, u});
+  EXPECT_EQ(controller.offset_estimate(), reference.state());
+  EXPECT_EQ(controller.offset_covariance(), reference.covariance());
+}
+
+}  // namespace
+}  // namespace twincal

@@ -1,0 +1,268 @@
+#include "twincal/controllers/lookahead_controller.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "controller_fixture.hpp"
+#include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/log_det_loss.hpp"
+#include "twincal/models/bouncing_drift.hpp"
+#include "twincal/samplers/halton.hpp"
+#include "twincal/samplers/sobol.hpp"
+
+namespace twincal {
+namespace {
+
+using testing::AnalyticTwin;
+using testing::CountingTwin;
+using testing::make_filter;
+using testing::make_twin;
+
+SobolOptions scrambled(std::uint64_t seed) {
+  return {.randomization = SobolRandomization::owen, .seed = seed};
+}
+
+template <typename F>
+using SobolController = LookaheadController<F, Sobol>;
+
+static_assert(Controller<SobolController<testing::Ukf<2>>>);
+static_assert(EstimatingController<SobolController<testing::Ukf<2>>>);
+
+// The candidates the controller scored after a propose, drawn again with an identical sampler.
+template <typename C, typename F>
+Matrix<F::dimension_at_compile_time, Dynamic> redraw_candidates(const C& controller,
+                                                                Sobol sampler) {
+  constexpr int N = F::dimension_at_compile_time;
+  const ProposalReport& report = controller.last_proposal();
+  const Vector<N> center = report.default_control;
+  const GaussianTransform<N> transform(center, controller.filter().covariance(),
+                                       controller.options().transform);
+  const BoxSet<N> box = BoxSet<N>::cube(center, controller.options().box_half_width);
+  const CandidateSet<N> set =
+      draw_candidates(sampler, transform, box, {.count = report.candidates_requested});
+  Matrix<N, Dynamic> scored = set.points().leftCols(report.candidates_scored);
+  return scored;
+}
+
+TEST(LookaheadController, WithWZeroAndATinyCovarianceItPicksTheCandidateClosestToTheDefault) {
+  const AnalyticTwin twin = make_twin(2);
+  const CountingTwin counting(twin);
+  const Eigen::Vector2d offset_estimate(0.05, -0.03);
+  using F = testing::Ukf<2>;
+  SobolController<F> controller(make_filter<F>(counting, offset_estimate, 1e-10, 1e-12),
+                                Sobol(2, scrambled(3)), {.w = 0.0});
+  const AssemblyId x{2, 7};
+  const Eigen::Vector2d u = controller.propose(x);
+  const ProposalReport& report = controller.last_proposal();
+  ASSERT_FALSE(report.fell_back()) << report.fallback;
+  EXPECT_EQ(report.candidates_requested, 16);  // 2^(2+d)
+  EXPECT_EQ(report.default_control, twin.optimum(x) + offset_estimate);
+
+  // Brute force: with P ≈ 0 every sigma point is δû, so E[Q] ranks the candidates by their
+  // H-distance to u0 + δû, where Q(x, u − δû) is smallest.
+  const Matrix<2, Dynamic> candidates =
+      redraw_candidates<SobolController<F>, F>(controller, Sobol(2, scrambled(3)));
+  ASSERT_GT(candidates.cols(), 1);
+  const Eigen::MatrixXd& h = twin.curvature();
+  double best = std::numeric_limits<double>::infinity();
+  Index closest = -1;
+  for (Index c = 0; c < candidates.cols(); ++c) {
+    const Eigen::Vector2d e = candidates.col(c) - report.default_control;
+    const double distance = e.dot(h * e);
+    if (distance < best) {
+      best = distance;
+      closest = c;
+    }
+  }
+  EXPECT_EQ(report.chosen, closest);
+  EXPECT_EQ(u, candidates.col(closest));
+}
+
+TEST(LookaheadController, WithWOneTheChoiceMinimizesTheExplorationLossOverTheSet) {
+  const AnalyticTwin twin = make_twin(2);
+  const CountingTwin counting(twin);
+  using F = testing::Ukf<2>;
+  SobolController<F> controller(make_filter<F>(counting, Eigen::Vector2d(0.1, 0.0), 0.02),
+                                Sobol(2, scrambled(11)), {.w = 1.0});
+  const AssemblyId x{4, 1};
+  const Eigen::Vector2d u = controller.propose(x);
+  const ProposalReport& report = controller.last_proposal();
+  ASSERT_FALSE(report.fell_back()) << report.fallback;
+
+  const F predicted = controller.filter();  // a copy: previews below must not touch the original
+  const Matrix<2, Dynamic> candidates =
+      redraw_candidates<SobolController<F>, F>(controller, Sobol(2, scrambled(11)));
+  double best = std::numeric_limits<double>::infinity();
+  Index argmin = -1;
+  for (Index c = 0; c < candidates.cols(); ++c) {
+    const Eigen::Vector2d candidate = candidates.col(c);
+    const double loss = TraceLoss{}(predicted.preview({x, candidate}).posterior_covariance);
+    if (loss < best) {
+      best = loss;
+      argmin = c;
+    }
+  }
+  EXPECT_EQ(report.chosen, argmin);
+  EXPECT_EQ(u, candidates.col(argmin));
+  EXPECT_DOUBLE_EQ(report.loss, best);
+  EXPECT_DOUBLE_EQ(report.exploration, best);
+}
+
+TEST(LookaheadController, QualityEvaluationsPerAssemblyAreCandidatesTimesSigmaPoints) {
+  const AnalyticTwin twin = make_twin(3);
+  const CountingTwin counting(twin);
+  using F = testing::Ukf<3>;
+  SobolController<F> controller(make_filter<F>(counting, Eigen::Vector3d::Zero(), 1e-3),
+                                Sobol(3, scrambled(2)), {.w = 0.5});
+  const AssemblyId x{0, 0};
+  const EvaluationStats before = counting.stats();
+  const Eigen::Vector3d u = controller.propose(x);
+  controller.observe(x, u, twin.quality(x, u) + 0.01);
+  const EvaluationStats step = counting.stats() - before;
+  const ProposalReport& report = controller.last_proposal();
+  ASSERT_FALSE(report.fell_back()) << report.fallback;
+  constexpr Index sigma_points = 2 * 3 + 1;
+  EXPECT_EQ(step.evaluations, static_cast<std::uint64_t>(report.candidates_scored * sigma_points));
+  EXPECT_EQ(step.calls, 1U);  // one batch for scoring; the update reused the chosen preview
+  EXPECT_EQ(report.quality_evaluations, step.evaluations);
+  EXPECT_EQ(report.optimizer_evaluations, 0U);  // the analytic twin knows u0 exactly
+  EXPECT_EQ(controller.filter().update_count(), 1U);
+}
+
+TEST(LookaheadController, ObservingAnotherControlRunsAnOrdinaryUpdate) {
+  const AnalyticTwin twin = make_twin(1);
+  const CountingTwin counting(twin);
+  using F = testing::Ukf<1>;
+  SobolController<F> controller(make_filter<F>(counting, Vector<1>(0.0), 1e-3),
+                                Sobol(1, scrambled(2)), {.w = 0.5});
+  const AssemblyId x{1, 1};
+  const Vector<1> proposed = controller.propose(x);
+  F reference = controller.filter();
+  const Vector<1> applied = proposed + Vector<1>(0.01);
+  const EvaluationStats before = counting.stats();
+  controller.observe(x, applied, 0.7);
+  EXPECT_EQ((counting.stats() - before).evaluations, 3U);  // the update's own 2n+1 points
+  reference.update(0.7, {x, applied});
+  EXPECT_EQ(controller.filter().state(), reference.state());
+  EXPECT_EQ(controller.filter().covariance(), reference.covariance());
+}
+
+TEST(LookaheadController, ATwinFailureFallsBackToTheDefaultControlWithoutTouchingTheFilter) {
+  const AnalyticTwin inner = make_twin(2);
+  // Scoring needs 16 candidates × 5 sigma points in one batch; the filter's update needs 5.
+  const testing::FailingOnLargeBatches failing(inner, 5);
+  const Evaluator<testing::FailingOnLargeBatches> twin(failing);
+  using Model = QualityFeedback<Evaluator<testing::FailingOnLargeBatches>, 2>;
+  using F = UnscentedKalmanFilter<RandomWalk<2>, Model>;
+  F filter(RandomWalk<2>::isotropic(2, 1e-3), Model(twin, 1e-4), testing::merwe(),
+           Eigen::Vector2d(0.02, 0.0), Eigen::Matrix2d::Identity() * 1e-3);
+  F reference = filter;
+  LookaheadController<F, Sobol> controller(std::move(filter), Sobol(2, scrambled(1)));
+  const AssemblyId x{3, 3};
+  const Eigen::Vector2d u = controller.propose(x);
+  const ProposalReport& report = controller.last_proposal();
+  EXPECT_TRUE(report.fell_back());
+  EXPECT_THAT(report.fallback, ::testing::HasSubstr("FEM solver crashed"));
+  EXPECT_EQ(report.chosen, -1);
+  EXPECT_EQ(u, report.default_control);
+  reference.predict();  // the controller's filter was predicted, and nothing else
+  EXPECT_EQ(controller.filter().state(), reference.state());
+  EXPECT_EQ(controller.filter().covariance(), reference.covariance());
+  EXPECT_EQ(controller.filter().update_count(), 0U);
+  controller.observe(x, u, inner.quality(x, u));  // an ordinary update still works
+  EXPECT_EQ(controller.filter().update_count(), 1U);
+}
+
+TEST(LookaheadController, RejectsBadOptionsAndAMismatchedSampler) {
+  const AnalyticTwin twin = make_twin(2);
+  const CountingTwin counting(twin);
+  using F = testing::Ukf<2>;
+  const F filter = make_filter<F>(counting, Eigen::Vector2d::Zero(), 1e-3);
+  using C = SobolController<F>;
+  EXPECT_THAT([&] { C(filter, Sobol(2), {.w = 1.5}); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "LookaheadOptions: w is 1.5; it must lie in [0, 1]"));
+  EXPECT_THAT([&] { C(filter, Sobol(2), {.box_half_width = 0.0}); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "LookaheadOptions: box_half_width is 0; it must be finite and > 0"));
+  EXPECT_THAT([&] { C(filter, Sobol(2), {.candidates = 0}); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "LookaheadOptions: candidates is 0; it must be >= 1 (unset: 2^(2+d))"));
+  EXPECT_THAT([&] { C(filter, Sobol(3)); },
+              ::testing::ThrowsMessage<DimensionMismatchError>(
+                  "sampler.dimension(): size is 3; rule: must equal 2"));
+}
+
+struct TrackingErrors {
+  double mean = 0.0;   // mean ‖δû_t − δu*_t‖ after the burn-in
+  double worst = 0.0;  // largest after the burn-in
+};
+
+// Tracks the paper's bouncing drift (eq. 15) with the plant Q(x, u − δu*) + noise over the 100
+// assemblies, and fails on divergence (the paper's rule: an error above 10).
+template <typename C>
+TrackingErrors track_drift(C& controller, const AnalyticTwin& twin, std::uint64_t seed,
+                           int burn_in = 10) {
+  RandomStream root(seed);
+  RandomStream drift_stream = root.substream("drift");
+  RandomStream noise = root.substream("noise");
+  const Index d = twin.control_dimension();
+  BouncingDrift<Dynamic> drift = BouncingDrift<Dynamic>::random(d, drift_stream);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  TrackingErrors errors;
+  for (int t = 0; t < 100; ++t) {
+    drift.advance();
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
+    const typename C::ControlVector u = controller.propose(x);
+    const VectorX shifted = VectorX(u) - drift.offset();
+    const double z =
+        twin.quality(x, shifted) + std::sqrt(testing::measurement_variance) * noise.normal();
+    controller.observe(x, u, z);
+    const double error = (VectorX(controller.offset_estimate()) - drift.offset()).norm();
+    EXPECT_LT(error, 10.0) << "diverged at assembly " << t;
+    if (t < burn_in) continue;
+    errors.mean += error / (100.0 - burn_in);
+    errors.worst = std::max(errors.worst, error);
+  }
+  return errors;
+}
+
+// A zero estimate of the drift (amplitude 0.5) would have a mean error of about 0.25: these
+// bounds demand real tracking, far from divergence.
+void expect_tracking(const TrackingErrors& errors) {
+  EXPECT_LT(errors.mean, 0.15);
+  EXPECT_LT(errors.worst, 0.4);
+  ::testing::Test::RecordProperty("mean_error", std::to_string(errors.mean));
+  ::testing::Test::RecordProperty("worst_error", std::to_string(errors.worst));
+}
+
+template <typename F>
+class LookaheadControllerFilters : public ::testing::Test {};
+using Filters = ::testing::Types<testing::Ukf<1>, testing::Ckf<1>, testing::Ukf<Dynamic>>;
+TYPED_TEST_SUITE(LookaheadControllerFilters, Filters);
+
+TYPED_TEST(LookaheadControllerFilters, TracksASlowDriftWithoutDivergingForOneLocator) {
+  using F = TypeParam;
+  const AnalyticTwin twin = make_twin(1);
+  const CountingTwin counting(twin);
+  LookaheadController<F, Sobol> controller(
+      make_filter<F>(counting, Vector<F::dimension_at_compile_time>::Zero(1), 1e-3),
+      Sobol(1, scrambled(9)), {.w = 0.5});
+  expect_tracking(track_drift(controller, twin, 2023));
+}
+
+TEST(LookaheadController, AblationsAreTypeChanges) {
+  // Halton for Sobol, log-det for trace, CKF for UKF: the same code and guarantees.
+  const AnalyticTwin twin = make_twin(1);
+  const CountingTwin counting(twin);
+  using F = testing::Ckf<1>;
+  LookaheadController<F, Halton, ExpectedQuality, LogDetLoss> controller(
+      make_filter<F>(counting, Vector<1>::Zero(), 1e-3), Halton(1), {.w = 0.7});
+  expect_tracking(track_drift(controller, twin, 7));
+}
+
+}  // namespace
+}  // namespace twincal
