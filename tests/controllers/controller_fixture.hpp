@@ -39,9 +39,6 @@ template <int N>
 using Ukf = UnscentedKalmanFilter<RandomWalk<N>, Feedback<N>>;
 template <int N>
 using Ckf = CubatureKalmanFilter<RandomWalk<N>, Feedback<N>>;
-template <int N>
-using SquareRootUkf =
-    SquareRootSigmaPointFilter<RandomWalk<N>, Feedback<N>, MerweScaledSigmaPoints>;
 
 // A filter of type F over `twin` starting from N(x0, p0·I).
 template <typename F>
