@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// `MerweScaledSigmaPoints`: the scaled unscented transform of van der Merwe (2004), the
-/// points of the paper's UKF (Sec. 2.3.1, eq. (11)) and of filterpy's MerweScaledSigmaPoints.
+/// points S_t of the paper's UKF (Sec. 2.3.1, eq. (11)) and of filterpy's MerweScaledSigmaPoints.
 ///
 /// λ = α²(n + κ) − n, c = √(n + λ);
 /// points: x, x + c·L_k (k = 1..n), x − c·L_k (k = 1..n), L the lower Cholesky factor of P;

@@ -1,21 +1,23 @@
 #pragma once
 /// @file
 /// `SigmaPointFilter<StateModel, MeasurementModel, Scheme>`: the sigma-point Kalman filter of the
-/// paper's Sec. 2.3.1 over the offset state δu, with a scalar black-box measurement whose inputs
-/// (assembly x_t, control u_t) arrive at update time. The scheme (a member policy) makes it a
-/// UKF (MerweScaledSigmaPoints, eq. (11)), a CKF (SphericalRadialSigmaPoints) or anything else
-/// that satisfies SigmaPointScheme.
+/// paper's Sec. 2.3.1 for the state-space model (5b)–(5c): the offset state δu, a scalar black-box
+/// measurement whose inputs (assembly x_t, control u_t) arrive at update time, and the Gaussian
+/// posterior N(δû_t, P_t) of eq. (8). The scheme (a member policy) makes it a UKF
+/// (MerweScaledSigmaPoints: the sigma points S_t and weights W(s_t) of eq. (11)), a CKF
+/// (SphericalRadialSigmaPoints) or anything else that satisfies SigmaPointScheme.
 ///
-/// predict (eq. (5c) for the random walk):
+/// predict (Q = Σu for the random walk of eq. (5c)):
 ///   χ_i* = f(χ_i),  x⁻ = Σ Wm_i χ_i*,  P⁻ = Σ Wc_i (χ_i* − x⁻)(χ_i* − x⁻)ᵀ + Q,
 ///   then the update points are redrawn from (x⁻, P⁻) or are the χ_i* (SigmaPointRefresh).
-/// update with z (eq. (11)):
+/// update with z (measurement model (5b), R = σz²):
 ///   γ_i = h(χ_i; x_t, u_t),  ẑ = Σ Wm_i γ_i,  S = Σ Wc_i (γ_i − ẑ)² + R,
 ///   Pxz = Σ Wc_i (χ_i − x⁻)(γ_i − ẑ),  K = Pxz/S,  x⁺ = x⁻ + K (z − ẑ),  P⁺ = P⁻ − K S Kᵀ.
 ///
 /// `update(z, inputs)` is `commit(preview(inputs), z)`: the preview computes everything that does
 /// not depend on z (one batch of measurement evaluations, P⁺, its factor), so a controller can
-/// preview many candidate controls and commit the chosen one without evaluating h again.
+/// preview many candidate controls and commit the chosen one without evaluating h again. The
+/// preview's P⁺ for a candidate u_t is the P_{t+1}(u_t) of the exploration loss, eq. (12).
 ///
 /// Errors: bad arguments, non-finite model outputs, a non-finite z and failed factorizations throw
 /// typed twincal errors before any member changes (strong guarantee). Fixed sizes allocate

@@ -1,9 +1,9 @@
 #pragma once
 /// @file
-/// The pieces of the unscented transform (paper eq. (11)) that SigmaPointFilter and
-/// SquareRootSigmaPointFilter share: propagating points through a state model, weighted moments,
-/// and the measurement statistics of a preview. Every function checks what it consumes for
-/// finiteness and allocates nothing for fixed sizes.
+/// The pieces of the unscented transform (over the sigma points of the paper's eq. (11)) that
+/// SigmaPointFilter and SquareRootSigmaPointFilter share: propagating points through a state model,
+/// weighted moments, and the measurement statistics of a preview. Every function checks what it
+/// consumes for finiteness and allocates nothing for fixed sizes.
 
 #include <cmath>
 #include <string_view>
