@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """A twin for ExternalTwin's tests, speaking twincal's JSON-lines protocol.
 
-Each request {"assembly": A, "controls": [[u_1, ..., u_d], ...]} gets the reply
-{"qualities": [sqrt(A.q0 + sum_i (u_i - A.a_i)^2), ...]}. The assembly may ask the twin to
+Each request {"id": n, "assembly": A, "controls": [[u_1, ..., u_d], ...]} gets the reply
+{"id": n, "qualities": [sqrt(A.q0 + sum_i (u_i - A.a_i)^2), ...]}. The assembly may ask the twin to
 misbehave on purpose with A.mode:
   "crash"        exit with status 3 without replying
   "garbage"      reply with a line that is not JSON
@@ -11,6 +11,8 @@ misbehave on purpose with A.mode:
   "error"        reply {"error": ...}
   "null"         reply null for every quality (a value the twin could not compute)
   "pid"          reply with the process id as every quality (tests restarts)
+  "chatty"       reply, then write a second, unrequested line
+  "wrong_id"     reply with the id of another request
 """
 import json
 import math
@@ -30,24 +32,27 @@ def main():
         mode = assembly.get("mode", "normal")
         if mode == "crash":
             os._exit(3)
+        reply_id = request["id"] + (1 if mode == "wrong_id" else 0)
         if mode == "garbage":
             reply = "this is not json"
         elif mode == "hang":
             time.sleep(60)
             continue
         elif mode == "error":
-            reply = json.dumps({"error": "assembly rejected on purpose"})
+            reply = json.dumps({"id": reply_id, "error": "assembly rejected on purpose"})
         elif mode == "null":
-            reply = json.dumps({"qualities": [None] * len(controls)})
+            reply = json.dumps({"id": reply_id, "qualities": [None] * len(controls)})
         elif mode == "pid":
-            reply = json.dumps({"qualities": [os.getpid()] * len(controls)})
+            reply = json.dumps({"id": reply_id, "qualities": [os.getpid()] * len(controls)})
         else:
             q0, a = assembly["q0"], assembly["a"]
             qualities = [math.sqrt(q0 + sum((ui - ai) ** 2 for ui, ai in zip(u, a)))
                          for u in controls]
             if mode == "wrong_count":
                 qualities.append(0.0)
-            reply = json.dumps({"qualities": qualities})
+            reply = json.dumps({"id": reply_id, "qualities": qualities})
+            if mode == "chatty":  # one write, so both lines arrive together
+                reply += "\n" + json.dumps({"id": reply_id + 1, "qualities": qualities})
         sys.stdout.write(reply + "\n")
         sys.stdout.flush()
 

@@ -143,6 +143,26 @@ TEST(ExternalTwin, KillsAndRestartsAChildThatTimesOut) {
   EXPECT_EQ(twin.starts(), 2);
 }
 
+TEST(ExternalTwin, RejectsRepliesOutOfStep) {
+  const ExternalTwin twin(script_options());
+  // A reply that names another request.
+  const pid_t first = pid_of(twin);
+  VectorX out(2);
+  EXPECT_THAT([&] { twin.quality_batch(misbehaving("wrong_id"), MatrixX::Zero(2, 2), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(
+                  HasSubstr("twin: external twin malformed reply: the reply is for request 3, "
+                            "not 2: \"{")));
+  // An extra, unrequested line after a correct reply is caught before the next request.
+  const pid_t second = pid_of(twin);
+  EXPECT_NE(second, first);
+  twin.quality_batch(misbehaving("chatty"), MatrixX::Zero(2, 2), out);
+  EXPECT_NEAR(out(0), expected(VectorX::Zero(2)), 1e-15);  // the reply itself is right
+  EXPECT_THAT([&] { twin.quality_batch(kAssembly, MatrixX::Zero(2, 2), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(
+                  HasSubstr("twin: external twin malformed reply: unrequested output \"{")));
+  EXPECT_NE(pid_of(twin), second);
+}
+
 TEST(ExternalTwin, ReportsAWrongCountAndKeepsTheChild) {
   const ExternalTwin twin(script_options());
   const pid_t first = pid_of(twin);

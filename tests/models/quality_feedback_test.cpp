@@ -74,8 +74,8 @@ TYPED_TEST(QualityFeedbackTest, MeasuresTheQualityAtTheCorrectedControl) {
   // eq. (5b) under Assumption 1: h(δu; x, u) = Q(x, u − δu).
   const TypeParam model(this->evaluator_, 1e-4);
   const AssemblyId x{3, 7};
-  const auto u = this->state(0.1, -0.2, 0.05);
-  const auto offset = this->state(0.02, 0.03, -0.04);
+  const typename TestFixture::State u = this->state(0.1, -0.2, 0.05);
+  const typename TestFixture::State offset = this->state(0.02, 0.03, -0.04);
   const typename TypeParam::Inputs inputs{x, u};
   EXPECT_DOUBLE_EQ(model.measure(offset, inputs), expected_quality(this->twin_, x, u - offset));
   // At δu = u − u0(x) the corrected control is the optimum: h = z*(x).

@@ -128,8 +128,8 @@ class AnalyticAssemblySet {
   /// q0(x) > 0.
   [[nodiscard]] double q0(const AssemblyId& assembly) const { return q0_(index_of(assembly)); }
 
-  /// a(x): the optimal control u0(x) of the analytic twins.
-  [[nodiscard]] auto optimum(const AssemblyId& assembly) const {
+  /// a(x): the optimal control u0(x) of the analytic twins, as a view of the stored column.
+  [[nodiscard]] MatrixX::ConstColXpr optimum(const AssemblyId& assembly) const {
     return optimum_.col(index_of(assembly));
   }
 

@@ -103,14 +103,10 @@ class Evaluator {
 
   /// u0(x) and z*(x) of a twin that knows them (TwinWithOptimum): passed through uncounted, as
   /// they are not evaluations of Q, so an evaluator keeps the twin's exact optimum available.
-  [[nodiscard]] decltype(auto) optimum(const Assembly& assembly) const
-    requires TwinWithOptimum<T>
-  {
+  [[nodiscard]] decltype(auto) optimum(const Assembly& assembly) const requires TwinWithOptimum<T> {
     return twin_->optimum(assembly);
   }
-  [[nodiscard]] double optimal_quality(const Assembly& assembly) const
-    requires TwinWithOptimum<T>
-  {
+  [[nodiscard]] double optimal_quality(const Assembly& assembly) const requires TwinWithOptimum<T> {
     return twin_->optimal_quality(assembly);
   }
 

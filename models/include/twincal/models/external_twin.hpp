@@ -4,10 +4,12 @@
 /// so a real twin (an FEM program behind a wrapper script) plugs in without recompiling.
 ///
 /// Protocol (one JSON object per line, UTF-8, '\n'-terminated, in both directions):
-///   request  {"assembly": <any JSON value>, "controls": [[u_1, …, u_d], …]}   (k ≥ 1 controls)
+///   request  {"id": n, "assembly": <any JSON value>, "controls": [[u_1, …, u_d], …]}  (k ≥ 1)
 ///   reply    {"qualities": [q_1, …, q_k]}    numbers, in request order; null for a quality the
 ///                                           twin could not compute (reported as non-finite)
 ///        or  {"error": "<message>"}          the twin refuses this request
+/// A reply may echo "id" (recommended): a reply with another id is rejected, which catches a
+/// child that answers out of step. Exactly one reply line per request.
 /// The child is started once (argv `options.command`, its stdin and stdout connected to one
 /// socket, stderr inherited) and kept for every request. Every request has a deadline
 /// (`timeout`, plus `startup_grace` for the first request after a start). Failures:
@@ -33,6 +35,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -206,8 +209,12 @@ class ExternalTwin {
   void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const {
     require_control_batch(controls, out, control_dimension());
+    require_finite("controls", controls);  // JSON has no NaN or ∞
     if (controls.cols() == 0) return;
-    nlohmann::json request = {{"assembly", assembly}, {"controls", nlohmann::json::array()}};
+    const std::lock_guard lock(mutex_);
+    const std::uint64_t id = ++requests_;
+    nlohmann::json request = {
+        {"id", id}, {"assembly", assembly}, {"controls", nlohmann::json::array()}};
     for (Index j = 0; j < controls.cols(); ++j) {
       nlohmann::json control = nlohmann::json::array();
       for (Index i = 0; i < controls.rows(); ++i) control.push_back(controls(i, j));
@@ -215,10 +222,10 @@ class ExternalTwin {
     }
     const std::string line = request.dump() + '\n';
 
-    const std::lock_guard lock(mutex_);
     const auto fail = [&](ExternalTwinFailure failure, const std::string& detail) {
       return ExternalTwinError(failure, assembly.dump(), controls, detail);
     };
+    if (running()) drain();
     if (running() && !buffer_.empty()) {
       // A correct child never writes without a request: the stream cannot be trusted.
       const std::string unsolicited = buffer_;
@@ -235,7 +242,7 @@ class ExternalTwin {
     send_all(line, deadline, fail);
     const std::string reply = receive_line(deadline, fail);
     answered_ = true;
-    parse_reply(reply, out, fail);
+    parse_reply(reply, id, out, fail);
   }
 
  private:
@@ -385,8 +392,18 @@ class ExternalTwin {
     }
   }
 
+  // Moves output that is already waiting into buffer_ without blocking.
+  void drain() const {
+    char chunk[4096];
+    ssize_t received = 0;
+    while ((received = ::recv(socket_, chunk, sizeof chunk, MSG_DONTWAIT)) > 0) {
+      buffer_.append(chunk, static_cast<std::size_t>(received));
+    }
+  }
+
   template <typename Fail>
-  void parse_reply(const std::string& line, Eigen::Ref<VectorX> out, const Fail& fail) const {
+  void parse_reply(const std::string& line, std::uint64_t id, Eigen::Ref<VectorX> out,
+                   const Fail& fail) const {
     const auto malformed = [&](std::string_view why) {
       const std::string ended = stop(/*graceful=*/false);
       constexpr std::size_t shown = 200;
@@ -397,6 +414,9 @@ class ExternalTwin {
     const nlohmann::json reply = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
     if (reply.is_discarded()) throw malformed("the reply is not JSON");
     if (!reply.is_object()) throw malformed("the reply is not a JSON object");
+    if (const auto echoed = reply.find("id"); echoed != reply.end() && *echoed != id) {
+      throw malformed(fmt::format("the reply is for request {}, not {}", echoed->dump(), id));
+    }
     if (const auto error = reply.find("error"); error != reply.end()) {
       throw fail(ExternalTwinFailure::twin_error,
                  error->is_string() ? error->get<std::string>() : error->dump());
@@ -429,6 +449,7 @@ class ExternalTwin {
   mutable std::string buffer_;     // bytes received after the last complete line
   mutable bool answered_ = false;  // the running child has answered at least once
   mutable int starts_ = 0;
+  mutable std::uint64_t requests_ = 0;
 };
 
 static_assert(Twin<ExternalTwin>);

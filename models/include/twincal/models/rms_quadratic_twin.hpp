@@ -107,7 +107,7 @@ class RmsQuadraticTwin {
                      Eigen::Ref<VectorX> out) const {
     require_control_batch(controls, out, control_dimension());
     const double q0 = assemblies_.q0(assembly);
-    const auto a = assemblies_.optimum(assembly);
+    const MatrixX::ConstColXpr a = assemblies_.optimum(assembly);
     for (Index j = 0; j < controls.cols(); ++j) out(j) = evaluate(q0, a, controls.col(j));
   }
 

@@ -81,7 +81,7 @@ class RuggedTwin {
                      Eigen::Ref<VectorX> out) const {
     require_control_batch(controls, out, control_dimension());
     const double z_star = optimal_quality(assembly);
-    const auto a = assemblies_.optimum(assembly);
+    const MatrixX::ConstColXpr a = assemblies_.optimum(assembly);
     for (Index j = 0; j < controls.cols(); ++j) out(j) = evaluate(z_star, a, controls.col(j));
   }
 
