@@ -113,6 +113,11 @@ class LookaheadController {
     pending_.reset();
   }
 
+  /// Drops the proposal's preview, so the next observe evaluates the measurement afresh: for
+  /// owners that change the measurement's context between propose and observe
+  /// (PerComponentController).
+  void forget_proposal() noexcept { pending_.reset(); }
+
   [[nodiscard]] const ControlVector& offset_estimate() const noexcept { return filter_.state(); }
   [[nodiscard]] MatrixX offset_covariance() const { return filter_.covariance(); }
   [[nodiscard]] const F& filter() const noexcept { return filter_; }

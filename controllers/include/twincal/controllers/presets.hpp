@@ -22,6 +22,7 @@
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/log_det_loss.hpp"
 #include "twincal/controllers/lookahead_controller.hpp"
+#include "twincal/controllers/per_component_controller.hpp"
 #include "twincal/controllers/trace_loss.hpp"
 #include "twincal/controllers/weighted_trace_loss.hpp"
 #include "twincal/core/options.hpp"
@@ -144,6 +145,23 @@ template <int N = Dynamic, Twin T>
       Sobol(twin.control_dimension(),
             {.randomization = SobolRandomization::linear_matrix_scramble, .seed = sampler_seed}),
       options);
+}
+
+/// The per-component simplification of Sec. 4 with the paper's w-controller on every locator.
+template <Twin T>
+using PerComponentPaperController = PerComponentController<T, PaperController<ComponentTwin<T>, 1>>;
+
+/// d one-locator paper controllers for `twin`; component i draws its randomness from
+/// `stream.substream("component").substream(i)`.
+template <Twin T>
+[[nodiscard]] PerComponentPaperController<T> make_per_component_paper_controller(
+    const T& twin, const RandomStream& stream, const LookaheadOptions& options = {},
+    const PaperSettings& settings = {}) {
+  const RandomStream components = stream.substream("component");
+  return PerComponentPaperController<T>(twin, [&](const ComponentTwin<T>& view, Index i) {
+    return make_paper_controller<1>(view, components.substream(static_cast<std::uint64_t>(i)),
+                                    options, settings);
+  });
 }
 
 }  // namespace twincal
