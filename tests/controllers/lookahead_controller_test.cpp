@@ -217,6 +217,7 @@ TrackingErrors track_drift(C& controller, const AnalyticTwin& twin, std::uint64_
     drift.advance();
     const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
     const typename C::ControlVector u = controller.propose(x);
+    EXPECT_FALSE(controller.last_proposal().fell_back()) << controller.last_proposal().fallback;
     const VectorX shifted = VectorX(u) - drift.offset();
     const double z =
         twin.quality(x, shifted) + std::sqrt(testing::measurement_variance) * noise.normal();
