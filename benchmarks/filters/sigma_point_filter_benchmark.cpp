@@ -1,0 +1,114 @@
+// Sigma-point filter cost: scheme × {fixed, Dynamic} × n, for predict+update and for a preview
+// (what a look-ahead controller pays per candidate control), with the cheap analytic
+// QuadraticQualityMeasurement (H = I) and a random-walk state model.
+#include <string>
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
+#include "twincal/filters/merwe_scaled_sigma_points.hpp"
+#include "twincal/filters/quadratic_quality_measurement.hpp"
+#include "twincal/filters/sigma_point_filter.hpp"
+#include "twincal/filters/spherical_radial_sigma_points.hpp"
+
+namespace twincal {
+namespace {
+
+// The paper's random walk (eq. 5c), here to keep the benchmark within the filters module.
+template <int N>
+class Walk {
+ public:
+  static constexpr int dimension_at_compile_time = N;
+  explicit Walk(Index n) : q_(SquareMatrix<N>::Identity(n, n) * 1e-3) {}
+  [[nodiscard]] Index dimension() const { return q_.rows(); }
+  [[nodiscard]] const Vector<N>& propagate(const Vector<N>& x) const { return x; }
+  [[nodiscard]] const SquareMatrix<N>& process_noise() const { return q_; }
+
+ private:
+  SquareMatrix<N> q_;
+};
+
+struct Ukf {
+  static constexpr const char* name = "ukf_merwe";
+  static MerweScaledSigmaPoints make() { return {0.1, 2.0, 0.0}; }
+};
+struct Ckf {
+  static constexpr const char* name = "ckf";
+  static SphericalRadialSigmaPoints make() { return {}; }
+};
+struct Fifth {
+  static constexpr const char* name = "fifth_degree";
+  static FifthDegreeCubatureSigmaPoints make() { return {}; }
+};
+
+template <typename Case, int N>
+auto make_filter(Index n) {
+  using Scheme = decltype(Case::make());
+  using Filter = SigmaPointFilter<Walk<N>, QuadraticQualityMeasurement<N>, Scheme>;
+  return Filter(Walk<N>(n),
+                QuadraticQualityMeasurement<N>(SquareMatrix<N>::Identity(n, n), 0.04, 1e-4),
+                Case::make(), Vector<N>::Zero(n), SquareMatrix<N>::Identity(n, n) * 1e-3);
+}
+
+template <int N>
+typename QuadraticQualityMeasurement<N>::Inputs inputs(Index n) {
+  return {Vector<N>::Constant(n, 0.05), Vector<N>::Constant(n, 0.1)};
+}
+
+template <typename Case, int N>
+void predict_update(benchmark::State& state) {
+  const Index n = N == Dynamic ? static_cast<Index>(state.range(0)) : N;
+  auto filter = make_filter<Case, N>(n);
+  const auto in = inputs<N>(n);
+  for (auto _ : state) {
+    filter.predict();
+    filter.update(0.2, in);
+    benchmark::DoNotOptimize(filter.state().data());
+  }
+  state.counters["points"] = static_cast<double>(filter.num_points());
+}
+
+template <typename Case, int N>
+void preview(benchmark::State& state) {
+  const Index n = N == Dynamic ? static_cast<Index>(state.range(0)) : N;
+  auto filter = make_filter<Case, N>(n);
+  const auto in = inputs<N>(n);
+  filter.predict();
+  for (auto _ : state) {
+    auto p = filter.preview(in);
+    benchmark::DoNotOptimize(p.posterior_covariance.data());
+  }
+  state.counters["points"] = static_cast<double>(filter.num_points());
+}
+
+template <typename Case, int... Ns>
+void register_case(std::initializer_list<int> dynamic_sizes) {
+  (benchmark::RegisterBenchmark(fmt::format("{}/fixed/predict_update/{}", Case::name, Ns).c_str(),
+                                &predict_update<Case, Ns>),
+   ...);
+  (benchmark::RegisterBenchmark(fmt::format("{}/fixed/preview/{}", Case::name, Ns).c_str(),
+                                &preview<Case, Ns>),
+   ...);
+  for (const int n : dynamic_sizes) {
+    benchmark::RegisterBenchmark(fmt::format("{}/dynamic/predict_update", Case::name).c_str(),
+                                 &predict_update<Case, Dynamic>)
+        ->Arg(n);
+    benchmark::RegisterBenchmark(fmt::format("{}/dynamic/preview", Case::name).c_str(),
+                                 &preview<Case, Dynamic>)
+        ->Arg(n);
+  }
+}
+
+// The fifth-degree rule has 2n² + 1 points (289 at n = 12, 2049 at n = 32): it is measured at
+// fixed n <= 6 and dynamic n <= 12. Julier's and the simplex points cost what Merwe's and the
+// cubature points cost for the same point count (2n + 1, n + 1), so they are not repeated here.
+const bool registered = [] {
+  register_case<Ukf, 1, 2, 3, 6, 12, 19, 32>({1, 2, 3, 6, 12, 19, 32});
+  register_case<Ckf, 1, 2, 3, 6, 12, 19, 32>({1, 2, 3, 6, 12, 19, 32});
+  register_case<Fifth, 1, 2, 3, 6>({1, 2, 3, 6, 12});
+  return true;
+}();
+
+}  // namespace
+}  // namespace twincal
