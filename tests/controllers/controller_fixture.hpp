@@ -56,13 +56,11 @@ F make_filter(const CountingTwin& twin, const Vector<F::dimension_at_compile_tim
   }
 }
 
-// A twin that works like `inner` but throws on batches larger than `max_batch` controls, to make
-// a controller's scoring batch fail while the filter's own updates still work.
-class FailingOnLargeBatches {
+// The analytic twin as a plain black box: every Twin member forwarded, the known optimum hidden.
+class BlackBox {
  public:
   using Assembly = AnalyticTwin::Assembly;
-  FailingOnLargeBatches(const AnalyticTwin& inner, Index max_batch)
-      : inner_(&inner), max_batch_(max_batch) {}
+  explicit BlackBox(const AnalyticTwin& inner) : inner_(&inner) {}
   [[nodiscard]] Index control_dimension() const { return inner_->control_dimension(); }
   [[nodiscard]] const std::vector<std::string>& locator_names() const {
     return inner_->locator_names();
@@ -74,8 +72,23 @@ class FailingOnLargeBatches {
   }
   void quality_batch(const Assembly& x, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const {
-    if (controls.cols() > max_batch_) throw std::runtime_error("FEM solver crashed");
     inner_->quality_batch(x, controls, out);
+  }
+
+ protected:
+  const AnalyticTwin* inner_;
+};
+
+// Like the analytic twin (optimum included), but throws on batches larger than `max_batch`
+// controls, to make a controller's scoring batch fail while the filter's own updates still work.
+class FailingOnLargeBatches : public BlackBox {
+ public:
+  FailingOnLargeBatches(const AnalyticTwin& inner, Index max_batch)
+      : BlackBox(inner), max_batch_(max_batch) {}
+  void quality_batch(const Assembly& x, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const {
+    if (controls.cols() > max_batch_) throw std::runtime_error("FEM solver crashed");
+    BlackBox::quality_batch(x, controls, out);
   }
   [[nodiscard]] VectorX optimum(const Assembly& x) const { return inner_->optimum(x); }
   [[nodiscard]] double optimal_quality(const Assembly& x) const {
@@ -83,7 +96,6 @@ class FailingOnLargeBatches {
   }
 
  private:
-  const AnalyticTwin* inner_;
   Index max_batch_;
 };
 

@@ -8,28 +8,8 @@
 namespace twincal {
 namespace {
 
-// The RMS-quadratic twin without its known optimum: a black box to the controller.
-class BlackBox {
- public:
-  using Assembly = AssemblyId;
-  explicit BlackBox(const RmsQuadraticTwin& twin) : twin_(&twin) {}
-  [[nodiscard]] Index control_dimension() const { return twin_->control_dimension(); }
-  [[nodiscard]] const std::vector<std::string>& locator_names() const {
-    return twin_->locator_names();
-  }
-  [[nodiscard]] const VectorX& lower_bounds() const { return twin_->lower_bounds(); }
-  [[nodiscard]] const VectorX& upper_bounds() const { return twin_->upper_bounds(); }
-  [[nodiscard]] double quality(const Assembly& x, const Eigen::Ref<const VectorX>& u) const {
-    return twin_->quality(x, u);
-  }
-  void quality_batch(const Assembly& x, const Eigen::Ref<const MatrixX>& controls,
-                     Eigen::Ref<VectorX> out) const {
-    twin_->quality_batch(x, controls, out);
-  }
+using testing::BlackBox;
 
- private:
-  const RmsQuadraticTwin* twin_;
-};
 static_assert(Twin<BlackBox> && !TwinWithOptimum<BlackBox>);
 static_assert(Controller<IndividualizedController<BlackBox>>);
 
