@@ -195,6 +195,8 @@ TEST(SquareRootSigmaPointFilter, UpdateIsPreviewThenCommitAndStalePreviewsAreRej
     EXPECT_EQ(updated.factor(), committed.factor());
     EXPECT_EQ(updated.sigma_points(), committed.sigma_points());
   }
+  EXPECT_EQ(committed.measurement_model().noise_variance(), 1e-4);
+  EXPECT_EQ(committed.state_model().dimension(), 3);
   const auto stale = committed.preview(inputs_at<3>(0));
   committed.predict();
   EXPECT_THAT([&] { committed.commit(stale, 0.2); },

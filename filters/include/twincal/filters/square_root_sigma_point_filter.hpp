@@ -281,6 +281,8 @@ requires(SM::dimension_at_compile_time ==
   [[nodiscard]] std::uint64_t update_count() const noexcept { return updates_; }
   [[nodiscard]] std::uint64_t revision() const noexcept { return revision_; }
   [[nodiscard]] const SquareRootFilterOptions& options() const noexcept { return options_; }
+  [[nodiscard]] const SM& state_model() const noexcept { return state_model_; }
+  [[nodiscard]] const MM& measurement_model() const noexcept { return measurement_model_; }
   [[nodiscard]] const Scheme& scheme() const noexcept { return scheme_; }
 
   // --- save / restore ------------------------------------------------------------------------
