@@ -9,6 +9,7 @@
 #include "twincal/filters/cubature_kalman_filter.hpp"
 #include "twincal/filters/merwe_scaled_sigma_points.hpp"
 #include "twincal/filters/spherical_radial_sigma_points.hpp"
+#include "twincal/filters/square_root_sigma_point_filter.hpp"
 #include "twincal/filters/unscented_kalman_filter.hpp"
 #include "twincal/models/evaluator.hpp"
 #include "twincal/models/quality_feedback.hpp"
@@ -39,6 +40,9 @@ template <int N>
 using Ukf = UnscentedKalmanFilter<RandomWalk<N>, Feedback<N>>;
 template <int N>
 using Ckf = CubatureKalmanFilter<RandomWalk<N>, Feedback<N>>;
+template <int N>
+using SquareRootUkf =
+    SquareRootSigmaPointFilter<RandomWalk<N>, Feedback<N>, MerweScaledSigmaPoints>;
 
 // A filter of type F over `twin` starting from N(x0, p0·I).
 template <typename F>

@@ -242,7 +242,8 @@ void expect_tracking(const TrackingErrors& errors) {
 
 template <typename F>
 class LookaheadControllerFilters : public ::testing::Test {};
-using Filters = ::testing::Types<testing::Ukf<1>, testing::Ckf<1>, testing::Ukf<Dynamic>>;
+using Filters = ::testing::Types<testing::Ukf<1>, testing::Ckf<1>, testing::SquareRootUkf<1>,
+                                 testing::Ukf<Dynamic>>;
 TYPED_TEST_SUITE(LookaheadControllerFilters, Filters);
 
 TYPED_TEST(LookaheadControllerFilters, TracksASlowDriftWithoutDivergingForOneLocator) {

@@ -104,3 +104,20 @@ TEST(CholeskyFactor, RankOneUpdateValidatesItsArguments) {
 
 }  // namespace
 }  // namespace twincal
+
+namespace twincal {
+namespace {
+
+// Size 2 is where GCC 12's vectorized tails once tripped -Warray-bounds; keep it compiled.
+TEST(CholeskyFactor, FixedSizeTwoUpdateAndDowndate) {
+  Eigen::Matrix2d l;
+  l << 2.0, 0.0, 0.5, 1.0;
+  CholeskyFactor<2> factor(l);
+  const Eigen::Vector2d v(0.1, 0.2);
+  const Eigen::Matrix2d expected = factor.covariance() - 0.5 * v * v.transpose();
+  factor.rank_one_update(v, -0.5);
+  EXPECT_TRUE(factor.covariance().isApprox(expected, 1e-14));
+}
+
+}  // namespace
+}  // namespace twincal

@@ -89,10 +89,13 @@ class CholeskyFactor {
       const double c = r / lkk;
       const double s = x(k) / lkk;
       updated(k, k) = r;
-      const Index tail = n - k - 1;
-      if (tail == 0) break;
-      updated.col(k).tail(tail) = (updated.col(k).tail(tail) + sign * s * x.tail(tail)) / c;
-      x.tail(tail) = c * x.tail(tail) - s * updated.col(k).tail(tail);
+      // Scalar loop rather than tail blocks: GCC 12 misreads vectorized size-2 tails as out of
+      // bounds (-Warray-bounds), and the update is O(n) per column either way.
+      for (Index j = k + 1; j < n; ++j) {
+        const double l = (updated(j, k) + sign * s * x(j)) / c;
+        updated(j, k) = l;
+        x(j) = c * x(j) - s * l;
+      }
     }
     lower_ = updated;
   }

@@ -163,7 +163,13 @@ requires(SM::dimension_at_compile_time ==
         stacked.row(i) = std::sqrt(covariance_weights_(i)) * centred.col(i).transpose();
       }
     }
-    stacked.bottomRows(n) = noise_square_root(process_noise).transpose();
+    // Fixed-size blocks where the size is known: GCC 12 misreads dynamic blocks of tiny fixed
+    // matrices as out of bounds (-Warray-bounds).
+    if constexpr (N != Dynamic) {
+      stacked.template bottomRows<N>() = noise_square_root(process_noise).transpose();
+    } else {
+      stacked.bottomRows(n) = noise_square_root(process_noise).transpose();
+    }
     FactorType factor(triangular_factor(stacked, "prior factor"));
     for (Index i = 0; i < m; ++i) {
       if (covariance_weights_(i) < 0.0)
@@ -215,7 +221,11 @@ requires(SM::dimension_at_compile_time ==
       CovarianceMatrix a = CovarianceMatrix::Identity(n, n);
       a.noalias() -= p.gain * h.transpose();
       JosephStacked stacked(n + 1, n);
-      stacked.topRows(n).noalias() = (a * L_).transpose();
+      if constexpr (N != Dynamic) {
+        stacked.template topRows<N>().noalias() = (a * L_).transpose();
+      } else {
+        stacked.topRows(n).noalias() = (a * L_).transpose();
+      }
       stacked.row(n) = std::sqrt(effective_noise) * p.gain.transpose();
       p.posterior_factor = triangular_factor(stacked, "posterior factor");
     }
