@@ -1,5 +1,8 @@
 # TWINCAL_SANITIZERS: a list such as "address;undefined", applied to twincal's own binaries.
 add_library(twincal_sanitizers INTERFACE)
+# The flags as one string too, for builds outside this project that link our instrumented
+# libraries (the package consumer test).
+set(TWINCAL_SANITIZER_FLAGS "")
 add_library(twincal::sanitizers ALIAS twincal_sanitizers)
 if(TWINCAL_SANITIZERS)
   if(NOT CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
@@ -15,5 +18,6 @@ if(TWINCAL_SANITIZERS)
   target_compile_options(twincal_sanitizers INTERFACE
     -fsanitize=${joined} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   target_link_options(twincal_sanitizers INTERFACE -fsanitize=${joined})
+  set(TWINCAL_SANITIZER_FLAGS "-fsanitize=${joined}")
   message(STATUS "twincal: sanitizers ${joined}")
 endif()
