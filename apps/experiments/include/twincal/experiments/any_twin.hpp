@@ -1,0 +1,111 @@
+#pragma once
+/// @file
+/// `AnyTwin`: a type-erased twin with a known optimum over AssemblyId (models/twin.hpp's
+/// TwinWithOptimum): the FEM sheet-metal twin, the analytic twins or a user's, behind one type,
+/// so the episode runner is compiled once per controller and not once per twin. Only the batch
+/// call crosses the virtual boundary, once per filter update or candidate grid, so the erasure
+/// costs nothing measurable. Copies share the (immutable) twin.
+
+#include <array>
+#include <concepts>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/models/assembly_id.hpp"
+#include "twincal/models/twin.hpp"
+
+namespace twincal {
+
+class AnyTwin {
+ public:
+  using Assembly = AssemblyId;
+
+  /// Wraps `twin` (moved in). `assemblies` lists the twin's assemblies (all of them, in the
+  /// twin's order); `significant` names the locators A, B, C (fewer when d < 3).
+  template <TwinWithOptimum T>
+  requires std::same_as<typename T::Assembly, AssemblyId> AnyTwin(
+      T twin, std::vector<AssemblyId> assemblies, std::vector<Index> significant)
+      : model_(std::make_shared<const Model<T>>(std::move(twin))),
+        assemblies_(std::move(assemblies)),
+        significant_(std::move(significant)) {}
+
+  [[nodiscard]] Index control_dimension() const { return model_->control_dimension(); }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const {
+    return model_->locator_names();
+  }
+  [[nodiscard]] const VectorX& lower_bounds() const { return model_->lower_bounds(); }
+  [[nodiscard]] const VectorX& upper_bounds() const { return model_->upper_bounds(); }
+  [[nodiscard]] double quality(const AssemblyId& assembly,
+                               const Eigen::Ref<const VectorX>& control) const {
+    return model_->quality(assembly, control);
+  }
+  void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const {
+    model_->quality_batch(assembly, controls, out);
+  }
+  [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
+    return model_->optimum(assembly);
+  }
+  [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
+    return model_->optimal_quality(assembly);
+  }
+  [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
+  /// Indices of the locators A, B, C (the ones that affect the quality most).
+  [[nodiscard]] const std::vector<Index>& significant_locators() const noexcept {
+    return significant_;
+  }
+
+ private:
+  struct Concept {
+    virtual ~Concept() = default;
+    [[nodiscard]] virtual Index control_dimension() const = 0;
+    [[nodiscard]] virtual const std::vector<std::string>& locator_names() const = 0;
+    [[nodiscard]] virtual const VectorX& lower_bounds() const = 0;
+    [[nodiscard]] virtual const VectorX& upper_bounds() const = 0;
+    [[nodiscard]] virtual double quality(const AssemblyId&,
+                                         const Eigen::Ref<const VectorX>&) const = 0;
+    virtual void quality_batch(const AssemblyId&, const Eigen::Ref<const MatrixX>&,
+                               Eigen::Ref<VectorX>) const = 0;
+    [[nodiscard]] virtual VectorX optimum(const AssemblyId&) const = 0;
+    [[nodiscard]] virtual double optimal_quality(const AssemblyId&) const = 0;
+  };
+
+  template <typename T>
+  struct Model final : Concept {
+    explicit Model(T t) : twin(std::move(t)) {}
+    [[nodiscard]] Index control_dimension() const override { return twin.control_dimension(); }
+    [[nodiscard]] const std::vector<std::string>& locator_names() const override {
+      return twin.locator_names();
+    }
+    [[nodiscard]] const VectorX& lower_bounds() const override { return twin.lower_bounds(); }
+    [[nodiscard]] const VectorX& upper_bounds() const override { return twin.upper_bounds(); }
+    [[nodiscard]] double quality(const AssemblyId& assembly,
+                                 const Eigen::Ref<const VectorX>& control) const override {
+      return twin.quality(assembly, control);
+    }
+    void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                       Eigen::Ref<VectorX> out) const override {
+      twin.quality_batch(assembly, controls, out);
+    }
+    [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const override {
+      return twin.optimum(assembly);
+    }
+    [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const override {
+      return twin.optimal_quality(assembly);
+    }
+    T twin;
+  };
+
+  std::shared_ptr<const Concept> model_;
+  std::vector<AssemblyId> assemblies_;
+  std::vector<Index> significant_;
+};
+
+static_assert(TwinWithOptimum<AnyTwin>);
+
+}  // namespace twincal

@@ -1,0 +1,90 @@
+#pragma once
+/// @file
+/// `CaseTwin`: the twin an episode's controllers see — a full twin (AnyTwin) restricted to the
+/// controlled locators S, the others held at the individualized optimum u0(x) (eq. 3), as in the
+/// paper's one- and three-locator experiments (Sec. 3):
+///   Q_S(x, v) = Q(x, u),  u_S = v,  u_j = u0_j(x) for j ∉ S;  u0_S(x), z*(x) unchanged.
+/// Unlike models' LocatorSubset it computes u0(x) and z*(x) once per assembly at construction
+/// (they do not depend on the controller or the run) and embeds controls into a per-thread
+/// grow-only workspace, so evaluations do not allocate. It counts the Q-evaluations made
+/// through it per thread (the plant's own evaluation, `plant_quality`, is not counted), which is
+/// how an episode reports its Q-evaluations per assembly whatever the controller.
+/// Thread-safe for concurrent const use.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/experiments/any_twin.hpp"
+#include "twincal/models/assembly_id.hpp"
+#include "twincal/models/twin.hpp"
+
+namespace twincal {
+
+class CaseTwin {
+ public:
+  using Assembly = AssemblyId;
+
+  /// Restricts `twin` to `locators` (indices into the full twin, in that order).
+  /// @throws InvalidArgumentError when `locators` is empty, repeats or is out of range, or the
+  ///         twin lists no assemblies.
+  CaseTwin(AnyTwin twin, std::vector<Index> locators);
+
+  [[nodiscard]] Index control_dimension() const noexcept { return std::ssize(locators_); }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept { return names_; }
+  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return lower_bounds_; }
+  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return upper_bounds_; }
+  /// Indices of the controlled locators in the full twin.
+  [[nodiscard]] const std::vector<Index>& locators() const noexcept { return locators_; }
+  [[nodiscard]] const AnyTwin& full_twin() const noexcept { return twin_; }
+  /// The full twin's assemblies, in its order.
+  [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept {
+    return twin_.assemblies();
+  }
+
+  /// Q_S(x, v); counted.
+  [[nodiscard]] double quality(const AssemblyId& assembly,
+                               const Eigen::Ref<const VectorX>& control) const;
+  /// out(j) = Q_S(x, controls.col(j)) with one batch call of the full twin; counted.
+  void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const;
+  /// Q_S(x, v) for the plant (the "real" cell); not counted.
+  [[nodiscard]] double plant_quality(const AssemblyId& assembly,
+                                     const Eigen::Ref<const VectorX>& control) const;
+
+  /// u0_S(x).
+  [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
+    return optima_.col(position(assembly));
+  }
+  /// z*(x).
+  [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
+    return optimal_qualities_(position(assembly));
+  }
+
+  /// Q-evaluations made through any CaseTwin on the calling thread so far.
+  [[nodiscard]] static std::uint64_t evaluations_on_this_thread() noexcept;
+
+ private:
+  [[nodiscard]] Index position(const AssemblyId& assembly) const;
+  // The full control u0(x) with the controlled entries replaced, into `out` (D × k).
+  void embed(Index position, const Eigen::Ref<const MatrixX>& controls,
+             Eigen::Ref<MatrixX> out) const;
+
+  AnyTwin twin_;
+  std::vector<Index> locators_;
+  std::vector<std::string> names_;
+  VectorX lower_bounds_;
+  VectorX upper_bounds_;
+  Index lower_parts_ = 0;      // assembly (i, j) is at i·lower_parts_ + j in the lookup
+  std::vector<Index> lookup_;  // position in assemblies(), −1 for an unknown id
+  MatrixX full_optima_;        // u0(x), D × assemblies
+  MatrixX optima_;             // u0_S(x), |S| × assemblies
+  VectorX optimal_qualities_;  // z*(x)
+};
+
+static_assert(TwinWithOptimum<CaseTwin>);
+
+}  // namespace twincal

@@ -1,0 +1,52 @@
+#pragma once
+/// @file
+/// `EpisodeResult`: what one episode (one controller, one run) produced — per assembly the
+/// trace (z_t, z*_t, u_t, δû_t, δu*_t, tr P_t, Q-evaluations, wall time) and the paper's
+/// metrics (Sec. 3): the mean relative residual (1/T) Σ (z_t − z*_t)/z*_t, the mean estimation
+/// error (1/T) Σ ‖δû_t − δu*_t‖ and the divergence ‖δû_t − δu*_t‖ > 10 with its step.
+/// The trace's storage is sized once, before the episode, so recording does not allocate.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/models/assembly_id.hpp"
+
+namespace twincal {
+
+struct EpisodeResult {
+  // --- identity ----------------------------------------------------------------------------
+  std::string group;       ///< the experiment group (ExperimentConfig::group_name())
+  std::string controller;  ///< ControllerSpec::label()
+  Index run = 0;
+  std::uint64_t run_seed = 0;  ///< seed of the run's stream (order, drift, noise, δû0)
+
+  // --- trace: column/entry t is assembly t of the episode; `steps` are filled ----------------
+  Index steps = 0;  ///< assemblies produced (fewer than planned after a stop on divergence)
+  std::vector<AssemblyId> assemblies;
+  VectorX z;              ///< measured quality z_t
+  VectorX z_star;         ///< z*(x_t), the individualized optimum's quality
+  MatrixX control;        ///< u_t (d × T)
+  MatrixX estimate;       ///< δû_t after the update with z_t (0 for non-estimating controllers)
+  MatrixX offset;         ///< δu*_t the assembly was produced with
+  VectorX trace_p;        ///< tr P_t after the update (NaN for non-estimating controllers)
+  VectorX q_evaluations;  ///< twin evaluations of the controller for assembly t
+  VectorX seconds;        ///< wall time of propose + observe
+
+  // --- metrics over the `steps` assemblies ---------------------------------------------------
+  double relative_residual = 0.0;  ///< mean (z_t − z*_t)/z*_t
+  double estimation_error = 0.0;   ///< mean ‖δû_t − δu*_t‖
+  Index diverged_at = -1;  ///< first t with ‖δû_t − δu*_t‖ > threshold, −1 if none
+  double seconds_per_assembly = 0.0;
+  double q_evaluations_per_assembly = 0.0;
+  /// Why the episode stopped early other than by divergence (a controller error), else empty.
+  /// An error also counts as a divergence at its step.
+  std::string failure;
+
+  [[nodiscard]] bool diverged() const noexcept { return diverged_at >= 0; }
+};
+
+}  // namespace twincal

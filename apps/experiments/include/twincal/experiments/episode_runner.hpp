@@ -1,0 +1,31 @@
+#pragma once
+/// @file
+/// `run_episode`: one episode of the paper's protocol (Sec. 2.4, 3) for one controller and one
+/// run of an experiment group. Per assembly x_t (t = 0, …, T−1):
+///   the drift advances to δu*_t (eq. 15, δu*_0 = 0 before the first step);
+///   u_t = controller.propose(x_t);  z_t = Q_S(x_t, u_t − δu*_t) + v_t (the plant, eq. 5b);
+///   controller.observe(x_t, u_t, z_t);  record; check ‖δû_t − δu*_t‖ > threshold.
+/// Randomness is keyed by (seed, run) only, so every controller of a run sees the same assembly
+/// order, drift direction, measurement noise, initial estimate δû0 and candidate randomization:
+///   run = RandomStream(seed).substream("run").substream(r), and from it the substreams
+///   "assembly_order", "drift", "measurement_noise", "filter" (δû0: its "initial_offset") and
+///   "candidates" (the sampler's seed).
+/// Non-estimating controllers (baseline, nominal) assume a calibrated twin: δû_t = 0.
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/experiments/case_twin.hpp"
+#include "twincal/experiments/controller_spec.hpp"
+#include "twincal/experiments/episode_result.hpp"
+#include "twincal/experiments/experiment_config.hpp"
+
+namespace twincal {
+
+/// Runs episode (`controller`, `run`) of `config` on `twin` (which must be
+/// make_case_twin(config) or equivalent). Deterministic: the same arguments give the same result
+/// (apart from the wall times) on any thread.
+/// @throws InvalidArgumentError for an invalid config or run < 0; errors inside the episode are
+///         recorded in EpisodeResult::failure instead.
+[[nodiscard]] EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
+                                        const ControllerSpec& controller, Index run);
+
+}  // namespace twincal

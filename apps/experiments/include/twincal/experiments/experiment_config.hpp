@@ -1,0 +1,91 @@
+#pragma once
+/// @file
+/// `ExperimentConfig`: one experiment group — a twin case and locator set, the controllers to
+/// compare, the filter, sampler and loss of the w-controllers, the paper's numbers (Sec. 2.4)
+/// and the protocol: runs × episodes of `assemblies` assemblies under the bouncing drift of
+/// eq. (15). Defaults are the paper's; `validate()` names the field that breaks a rule. JSON
+/// round-trips through nlohmann-json (`to_json`/`from_json`, unknown keys rejected).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/experiments/controller_spec.hpp"
+#include "twincal/experiments/experiment_choices.hpp"
+
+namespace twincal {
+
+struct ExperimentConfig {
+  /// Name of the group in the results; empty: "<case>/<locators>".
+  std::string name;
+
+  // --- the twin ------------------------------------------------------------------------------
+  TwinCase twin_case = TwinCase::body;
+  /// Seed of the twin itself (parts, fields); the same for every run.
+  std::uint64_t twin_seed = 2023;
+  /// Number of locators of the analytic twin (ignored by body and door).
+  Index analytic_dimension = 3;
+  /// Controlled (and drifting) locators: "A", "B", "C" (the twin's significant locators),
+  /// "ABC", "all", or a comma-separated list of locator names or 0-based indices.
+  std::string locators = "A";
+
+  // --- controllers ---------------------------------------------------------------------------
+  std::vector<ControllerSpec> controllers = ControllerSpec::paper();
+  FilterScheme filter = FilterScheme::merwe;
+  /// Merwe's scaled points (α, β, κ); Julier's points use κ. The paper's are not stated.
+  double alpha = 1.0;
+  double beta = 2.0;
+  double kappa = 0.0;
+  CandidateSampler sampler = CandidateSampler::sobol;
+  ExplorationKind exploration = ExplorationKind::trace;
+  /// Candidates per assembly, eq. (14); unset: the paper's 2^(2+d).
+  std::optional<Index> candidates{};
+  /// Draw further batches until `candidates` survive U_t (the paper draws one).
+  bool keep_drawing = false;
+  /// Half-width of U_t around u0 + δû, eq. (14).
+  double box_half_width = 0.1;
+
+  // --- filter and plant ------------------------------------------------------------------------
+  /// σz² the filter assumes, eq. (5b); unset: 1e-4 for body and analytic, 1e-6 for door.
+  std::optional<double> measurement_variance{};
+  /// Σu = process_variance·I, eq. (5c).
+  double process_variance = 1e-3;
+  /// δû0 ~ N(0, initial_variance·I) and P0 = initial_variance·I.
+  double initial_variance = 1e-3;
+  /// Variance of the noise the plant adds to z_t (the paper measures without noise: 0).
+  double plant_noise_variance = 0.0;
+  /// Bouncing drift, eq. (15): |p| per assembly and the bound b on |δu*_i|.
+  double drift_step = 0.03;
+  double drift_bound = 0.5;
+
+  // --- protocol --------------------------------------------------------------------------------
+  Index runs = 10;
+  /// Assemblies per episode, taken from the twin's assemblies in a seeded random order.
+  Index assemblies = 100;
+  std::uint64_t seed = 2023;
+  /// An episode diverges when ‖δû_t − δu*_t‖ exceeds this (the paper's 10).
+  double divergence_threshold = 10.0;
+  /// Stop an episode at its divergence (metrics then cover the steps up to it).
+  bool stop_on_divergence = true;
+
+  /// "<case>/<locators>" unless `name` is set.
+  [[nodiscard]] std::string group_name() const;
+  /// The σz² the filter uses (measurement_variance or the case's default).
+  [[nodiscard]] double filter_measurement_variance() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
+};
+
+void to_json(nlohmann::json& json, const ExperimentConfig& config);
+/// Reads the keys present over the defaults.
+/// @throws InvalidArgumentError naming an unknown key or a value of the wrong type or spelling.
+void from_json(const nlohmann::json& json, ExperimentConfig& config);
+
+/// The JSON of the fields that decide what one episode does: everything but `name`, `runs` and
+/// `controllers` (which say which episodes exist). Results are only reused under an equal one.
+[[nodiscard]] nlohmann::json episode_defining_json(const ExperimentConfig& config);
+
+}  // namespace twincal

@@ -1,0 +1,36 @@
+#pragma once
+/// @file
+/// The study's summary table: per group and controller, over the stored runs, the median of the
+/// episodes' mean relative residual and mean estimation error (over the runs that did not
+/// diverge, as the paper's box plots), the number of divergences, and the mean wall time and
+/// Q-evaluations per assembly (over all runs).
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/eigen.hpp"
+
+namespace twincal {
+
+struct SummaryRow {
+  std::string group;
+  std::string controller;
+  Index runs = 0;
+  Index divergences = 0;
+  double median_relative_residual = 0.0;  ///< NaN when every run diverged
+  double median_estimation_error = 0.0;   ///< NaN when every run diverged
+  double seconds_per_assembly = 0.0;
+  double q_evaluations_per_assembly = 0.0;
+};
+
+/// Rows in the groups' order, controllers in each group's config order, from the `groups` and
+/// `episodes` of a ResultStore (or of a summary.json).
+[[nodiscard]] std::vector<SummaryRow> summarize(const nlohmann::json& groups,
+                                                const std::vector<nlohmann::json>& episodes);
+
+/// An aligned plain-text table (one header line, one line per row).
+[[nodiscard]] std::string format_summary(const std::vector<SummaryRow>& rows);
+
+}  // namespace twincal

@@ -1,0 +1,34 @@
+#pragma once
+/// @file
+/// Studies as lists of experiment groups: the paper's matrix (Sec. 3: each case × locator sets
+/// A, B, C, ABC × the 13 controllers) and ablation sweeps — the cartesian product of axes over a
+/// base config, e.g.
+///   {"base": {"case": "analytic", "locators": "ABC", "runs": 5},
+///    "axes": {"filter": ["merwe", "cubature"], "w": [0.3, 1.0]}}
+/// An axis is any ExperimentConfig key, or one of the shorthands "w" (controllers = ["w=<v>"]),
+/// "controller" (controllers = [<v>]) and "dimension" (analytic_dimension). Each point is a
+/// group named "<base group>/<key>=<value> …" and tagged with its axis values.
+
+#include <span>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/experiments/experiment_choices.hpp"
+#include "twincal/experiments/experiment_config.hpp"
+#include "twincal/experiments/experiment_group.hpp"
+
+namespace twincal {
+
+/// The paper's matrix for `cases`: locator sets A, B, C, ABC of each case over `base` (whose
+/// case and locators are replaced; its name must be empty). Tagged {"case", "locators"}.
+[[nodiscard]] std::vector<ExperimentGroup> paper_study(std::span<const TwinCase> cases,
+                                                       const ExperimentConfig& base = {});
+
+/// The groups of a sweep document (see the file comment). Axes are expanded in the order of the
+/// document's keys (alphabetical), the last one fastest.
+/// @throws InvalidArgumentError naming a missing "base", an empty axis, or a bad value.
+[[nodiscard]] std::vector<ExperimentGroup> expand_sweep(const nlohmann::json& sweep);
+
+}  // namespace twincal

@@ -1,0 +1,34 @@
+#pragma once
+/// @file
+/// The twin cases by name: `make_twin` builds the full twin of a case — body and door are the
+/// open FEM sheet-metal twin (SheetMetalTwin, 12 and 19 locators), analytic is the
+/// RmsQuadraticTwin of `analytic_dimension` locators named A, B, C, … — and `make_case_twin`
+/// restricts it to the configured locator set. This file is the one place where case names meet
+/// twin types.
+
+#include <string_view>
+#include <vector>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/experiments/any_twin.hpp"
+#include "twincal/experiments/case_twin.hpp"
+#include "twincal/experiments/experiment_config.hpp"
+
+namespace twincal {
+
+/// Whether the body and door cases are available (the FEM twin is part of this build).
+[[nodiscard]] bool sheet_metal_cases_available() noexcept;
+
+/// The full twin of `config.twin_case` with `config.twin_seed` (and `analytic_dimension`).
+/// @throws InvalidArgumentError for body/door when the FEM twin is not available.
+[[nodiscard]] AnyTwin make_twin(const ExperimentConfig& config);
+
+/// Locator indices of a locator-set spelling (see ExperimentConfig::locators): "A", "B", "C",
+/// "ABC" (the twin's significant locators), "all", or names / 0-based indices joined by commas.
+/// @throws InvalidArgumentError naming an unknown locator or a set the twin cannot provide.
+[[nodiscard]] std::vector<Index> resolve_locators(const AnyTwin& twin, std::string_view spelling);
+
+/// make_twin restricted to resolve_locators(config.locators).
+[[nodiscard]] CaseTwin make_case_twin(const ExperimentConfig& config);
+
+}  // namespace twincal

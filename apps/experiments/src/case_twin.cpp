@@ -1,0 +1,139 @@
+#include "twincal/experiments/case_twin.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "twincal/core/error.hpp"
+#include "twincal/core/validate.hpp"
+
+namespace twincal {
+namespace {
+
+thread_local std::uint64_t evaluations = 0;
+
+// Per-thread grow-only workspace for the full controls: a batch of a size seen before reuses it.
+Eigen::Block<MatrixX, Dynamic, Dynamic, true> full_controls(Index rows, Index cols) {
+  thread_local MatrixX buffer;
+  if (buffer.rows() != rows || buffer.cols() < cols) {
+    buffer.resize(rows, std::max(cols, buffer.rows() == rows ? buffer.cols() : Index{0}));
+  }
+  return buffer.leftCols(cols);
+}
+
+}  // namespace
+
+CaseTwin::CaseTwin(AnyTwin twin, std::vector<Index> locators)
+    : twin_(std::move(twin)), locators_(std::move(locators)) {
+  const Index d = twin_.control_dimension();
+  if (locators_.empty()) {
+    throw InvalidArgumentError("locators", "locators: is empty; rule: must name >= 1 locator");
+  }
+  for (std::size_t i = 0; i < locators_.size(); ++i) {
+    const Index k = locators_[i];
+    if (k < 0 || k >= d) {
+      throw InvalidArgumentError(
+          "locators",
+          fmt::format("locators: entry {} is {}; rule: must lie in [0, {}]", i, k, d - 1));
+    }
+    if (std::count(locators_.begin(), locators_.end(), k) > 1) {
+      throw InvalidArgumentError(
+          "locators", fmt::format("locators: locator {} appears more than once; rule: each "
+                                  "locator at most once",
+                                  k));
+    }
+  }
+  const std::vector<AssemblyId>& all = twin_.assemblies();
+  if (all.empty()) {
+    throw InvalidArgumentError("twin.assemblies()",
+                               "twin.assemblies(): is empty; rule: must list >= 1 assembly");
+  }
+  const Index k = control_dimension();
+  lower_bounds_.resize(k);
+  upper_bounds_.resize(k);
+  for (Index i = 0; i < k; ++i) {
+    const Index l = locators_[static_cast<std::size_t>(i)];
+    names_.push_back(twin_.locator_names()[static_cast<std::size_t>(l)]);
+    lower_bounds_(i) = twin_.lower_bounds()(l);
+    upper_bounds_(i) = twin_.upper_bounds()(l);
+  }
+
+  Index uppers = 0;
+  for (const AssemblyId& a : all) {
+    if (a.upper < 0 || a.lower < 0) {
+      throw InvalidArgumentError(
+          "twin.assemblies()",
+          fmt::format("twin.assemblies(): lists {}; rule: part indices must be >= 0", a));
+    }
+    uppers = std::max(uppers, a.upper + 1);
+    lower_parts_ = std::max(lower_parts_, a.lower + 1);
+  }
+  lookup_.assign(static_cast<std::size_t>(uppers * lower_parts_), -1);
+  const Index n = std::ssize(all);
+  full_optima_.resize(d, n);
+  optima_.resize(k, n);
+  optimal_qualities_.resize(n);
+  for (Index j = 0; j < n; ++j) {
+    const AssemblyId& a = all[static_cast<std::size_t>(j)];
+    lookup_[static_cast<std::size_t>(a.upper * lower_parts_ + a.lower)] = j;
+    full_optima_.col(j) = twin_.optimum(a);
+    for (Index i = 0; i < k; ++i)
+      optima_(i, j) = full_optima_(locators_[static_cast<std::size_t>(i)], j);
+    optimal_qualities_(j) = twin_.optimal_quality(a);
+    require_finite("z*", optimal_qualities_(j));
+  }
+}
+
+Index CaseTwin::position(const AssemblyId& assembly) const {
+  const Index slot = assembly.upper * lower_parts_ + assembly.lower;
+  const Index found = assembly.lower >= 0 && assembly.lower < lower_parts_ && slot >= 0 &&
+                              slot < std::ssize(lookup_)
+                          ? lookup_[static_cast<std::size_t>(slot)]
+                          : -1;
+  if (found < 0) {
+    throw InvalidArgumentError(
+        "assembly",
+        fmt::format("assembly: {} is unknown; rule: must be one of the twin's", assembly));
+  }
+  return found;
+}
+
+void CaseTwin::embed(Index position, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<MatrixX> out) const {
+  for (Index c = 0; c < controls.cols(); ++c) {
+    out.col(c) = full_optima_.col(position);
+    for (Index i = 0; i < control_dimension(); ++i) {
+      out(locators_[static_cast<std::size_t>(i)], c) = controls(i, c);
+    }
+  }
+}
+
+double CaseTwin::plant_quality(const AssemblyId& assembly,
+                               const Eigen::Ref<const VectorX>& control) const {
+  require_control(control, control_dimension());
+  Eigen::Block<MatrixX, Dynamic, Dynamic, true> full = full_controls(twin_.control_dimension(), 1);
+  embed(position(assembly), control, full);
+  return twin_.quality(assembly, full.col(0));
+}
+
+double CaseTwin::quality(const AssemblyId& assembly,
+                         const Eigen::Ref<const VectorX>& control) const {
+  const double value = plant_quality(assembly, control);
+  ++evaluations;
+  return value;
+}
+
+void CaseTwin::quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                             Eigen::Ref<VectorX> out) const {
+  require_control_batch(controls, out, control_dimension());
+  Eigen::Block<MatrixX, Dynamic, Dynamic, true> full =
+      full_controls(twin_.control_dimension(), controls.cols());
+  embed(position(assembly), controls, full);
+  twin_.quality_batch(assembly, full, out);
+  evaluations += static_cast<std::uint64_t>(controls.cols());
+}
+
+std::uint64_t CaseTwin::evaluations_on_this_thread() noexcept { return evaluations; }
+
+}  // namespace twincal

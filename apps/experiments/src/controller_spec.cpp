@@ -1,0 +1,57 @@
+#include "twincal/experiments/controller_spec.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "twincal/core/error.hpp"
+
+namespace twincal {
+
+std::vector<ControllerSpec> ControllerSpec::paper() {
+  std::vector<ControllerSpec> specs{baseline(), default_controller()};
+  // k/10 rather than accumulated steps of 0.1, so the labels read w=0.3, not w=0.30000000000000004.
+  for (int k = 0; k <= 10; ++k) specs.push_back(lookahead(static_cast<double>(k) / 10.0));
+  return specs;
+}
+
+std::string ControllerSpec::label() const {
+  switch (kind) {
+    case Kind::baseline:
+      return "baseline";
+    case Kind::nominal:
+      return "nominal";
+    case Kind::default_control:
+      return "default";
+    case Kind::lookahead:
+      return fmt::format("w={}", w);
+  }
+  return "unknown";
+}
+
+ControllerSpec ControllerSpec::parse(std::string_view text) {
+  if (text == "baseline") return baseline();
+  if (text == "nominal") return nominal();
+  if (text == "default") return default_controller();
+  if (text.starts_with("w=")) {
+    const std::string_view number = text.substr(2);
+    double w = 0.0;
+    const auto [end, error] = std::from_chars(number.data(), number.data() + number.size(), w);
+    if (error == std::errc{} && end == number.data() + number.size()) {
+      if (!(w >= 0.0 && w <= 1.0)) {
+        throw InvalidArgumentError(
+            "controller",
+            fmt::format("controller: \"{}\" has w = {}; rule: w must lie in [0, 1]", text, w));
+      }
+      return lookahead(w);
+    }
+  }
+  throw InvalidArgumentError(
+      "controller", fmt::format("controller: is \"{}\"; rule: must be baseline, nominal, default "
+                                "or w=<number in [0, 1]>",
+                                text));
+}
+
+}  // namespace twincal

@@ -1,0 +1,237 @@
+#include "twincal/experiments/experiment_config.hpp"
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <string_view>
+#include <utility>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/error.hpp"
+
+namespace twincal {
+
+std::string ExperimentConfig::group_name() const {
+  return name.empty() ? fmt::format("{}/{}", to_string(twin_case), locators) : name;
+}
+
+double ExperimentConfig::filter_measurement_variance() const {
+  if (measurement_variance) return *measurement_variance;
+  return twin_case == TwinCase::door ? 1e-6 : 1e-4;  // the paper's σz², Sec. 2.4
+}
+
+std::optional<std::string> ExperimentConfig::validate() const {
+  const auto positive = [](std::string_view field, double value) -> std::optional<std::string> {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      return fmt::format("{} is {}; rule: must be finite and > 0", field, value);
+    }
+    return std::nullopt;
+  };
+  for (const auto& [field, value] :
+       {std::pair<std::string_view, double>{"process_variance", process_variance},
+        {"initial_variance", initial_variance},
+        {"box_half_width", box_half_width},
+        {"drift_step", drift_step},
+        {"divergence_threshold", divergence_threshold},
+        {"alpha", alpha},
+        {"measurement_variance", filter_measurement_variance()}}) {
+    if (auto problem = positive(field, value)) return problem;
+  }
+  if (!(plant_noise_variance >= 0.0) || !std::isfinite(plant_noise_variance)) {
+    return fmt::format("plant_noise_variance is {}; rule: must be finite and >= 0",
+                       plant_noise_variance);
+  }
+  if (!(drift_bound >= 0.0) || !std::isfinite(drift_bound)) {
+    return fmt::format("drift_bound is {}; rule: must be finite and >= 0", drift_bound);
+  }
+  if (!std::isfinite(beta) || !std::isfinite(kappa)) {
+    return fmt::format("beta and kappa are {} and {}; rule: must be finite", beta, kappa);
+  }
+  if (analytic_dimension < 1) {
+    return fmt::format("analytic_dimension is {}; rule: must be >= 1", analytic_dimension);
+  }
+  if (locators.empty()) return "locators is empty; rule: must name >= 1 locator";
+  if (controllers.empty()) return "controllers is empty; rule: must name >= 1 controller";
+  for (std::size_t i = 0; i < controllers.size(); ++i) {
+    const ControllerSpec& c = controllers[i];
+    if (c.kind == ControllerSpec::Kind::lookahead && !(c.w >= 0.0 && c.w <= 1.0)) {
+      return fmt::format("controllers[{}] has w = {}; rule: w must lie in [0, 1]", i, c.w);
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (controllers[j].label() == c.label()) {
+        return fmt::format("controllers[{}] repeats \"{}\"; rule: each controller at most once", i,
+                           c.label());
+      }
+    }
+  }
+  if (candidates && *candidates < 1) {
+    return fmt::format("candidates is {}; rule: must be >= 1 (unset: 2^(2+d))", *candidates);
+  }
+  if (runs < 1) return fmt::format("runs is {}; rule: must be >= 1", runs);
+  if (assemblies < 1) return fmt::format("assemblies is {}; rule: must be >= 1", assemblies);
+  if (name.find_first_of(",\n\"") != std::string::npos) {
+    return fmt::format("name is \"{}\"; rule: must not contain commas, quotes or newlines", name);
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+using nlohmann::json;
+
+// One entry per field: how to write it and how to read it, so the two directions cannot drift.
+struct Field {
+  std::function<void(json&, const ExperimentConfig&)> write;
+  std::function<void(const json&, ExperimentConfig&)> read;
+};
+
+template <typename T>
+T value_as(const json& value, std::string_view key) {
+  try {
+    return value.get<T>();
+  } catch (const json::exception& error) {
+    throw InvalidArgumentError(std::string(key),
+                               fmt::format("{}: is {}; rule: {}", key, value.dump(), error.what()));
+  }
+}
+
+template <typename T>
+Field plain(T ExperimentConfig::*member, std::string_view key) {
+  return {[member, key](json& j, const ExperimentConfig& c) { j[std::string(key)] = c.*member; },
+          [member, key](const json& v, ExperimentConfig& c) { c.*member = value_as<T>(v, key); }};
+}
+
+template <typename Enum>
+Field choice(Enum ExperimentConfig::*member, std::string_view key,
+             Enum (*parse)(std::string_view, std::string_view)) {
+  return {[member, key](json& j, const ExperimentConfig& c) {
+            j[std::string(key)] = std::string(to_string(c.*member));
+          },
+          [member, key, parse](const json& v, ExperimentConfig& c) {
+            c.*member = parse(value_as<std::string>(v, key), key);
+          }};
+}
+
+const std::map<std::string, Field, std::less<>>& fields() {
+  static const std::map<std::string, Field, std::less<>> table = [] {
+    std::map<std::string, Field, std::less<>> t;
+    t["name"] = plain(&ExperimentConfig::name, "name");
+    t["case"] = choice(&ExperimentConfig::twin_case, "case", &parse_twin_case);
+    t["twin_seed"] = plain(&ExperimentConfig::twin_seed, "twin_seed");
+    t["analytic_dimension"] = plain(&ExperimentConfig::analytic_dimension, "analytic_dimension");
+    t["locators"] = {[](json& j, const ExperimentConfig& c) { j["locators"] = c.locators; },
+                     [](const json& v, ExperimentConfig& c) {
+                       // Also a JSON list of names or indices, joined into the comma-separated
+                       // form.
+                       if (!v.is_array()) {
+                         c.locators = value_as<std::string>(v, "locators");
+                         return;
+                       }
+                       std::string joined;
+                       for (const json& entry : v) {
+                         if (!joined.empty()) joined += ',';
+                         joined += entry.is_number_integer()
+                                       ? std::to_string(entry.get<long long>())
+                                       : value_as<std::string>(entry, "locators");
+                       }
+                       c.locators = joined;
+                     }};
+    t["controllers"] = {
+        [](json& j, const ExperimentConfig& c) {
+          json list = json::array();
+          for (const ControllerSpec& s : c.controllers) list.push_back(s.label());
+          j["controllers"] = list;
+        },
+        [](const json& v, ExperimentConfig& c) {
+          if (v.is_string() && v.get<std::string>() == "paper") {
+            c.controllers = ControllerSpec::paper();
+            return;
+          }
+          c.controllers.clear();
+          for (const auto& label : value_as<std::vector<std::string>>(v, "controllers")) {
+            c.controllers.push_back(ControllerSpec::parse(label));
+          }
+        }};
+    t["filter"] = choice(&ExperimentConfig::filter, "filter", &parse_filter_scheme);
+    t["alpha"] = plain(&ExperimentConfig::alpha, "alpha");
+    t["beta"] = plain(&ExperimentConfig::beta, "beta");
+    t["kappa"] = plain(&ExperimentConfig::kappa, "kappa");
+    t["sampler"] = choice(&ExperimentConfig::sampler, "sampler", &parse_candidate_sampler);
+    t["exploration"] =
+        choice(&ExperimentConfig::exploration, "exploration", &parse_exploration_kind);
+    t["candidates"] = {[](json& j, const ExperimentConfig& c) {
+                         j["candidates"] = c.candidates ? json(*c.candidates) : json(nullptr);
+                       },
+                       [](const json& v, ExperimentConfig& c) {
+                         c.candidates = v.is_null()
+                                            ? std::nullopt
+                                            : std::optional(value_as<Index>(v, "candidates"));
+                       }};
+    t["keep_drawing"] = plain(&ExperimentConfig::keep_drawing, "keep_drawing");
+    t["box_half_width"] = plain(&ExperimentConfig::box_half_width, "box_half_width");
+    t["measurement_variance"] = {
+        [](json& j, const ExperimentConfig& c) {
+          j["measurement_variance"] =
+              c.measurement_variance ? json(*c.measurement_variance) : json(nullptr);
+        },
+        [](const json& v, ExperimentConfig& c) {
+          c.measurement_variance = v.is_null()
+                                       ? std::nullopt
+                                       : std::optional(value_as<double>(v, "measurement_variance"));
+        }};
+    t["process_variance"] = plain(&ExperimentConfig::process_variance, "process_variance");
+    t["initial_variance"] = plain(&ExperimentConfig::initial_variance, "initial_variance");
+    t["plant_noise_variance"] =
+        plain(&ExperimentConfig::plant_noise_variance, "plant_noise_variance");
+    t["drift_step"] = plain(&ExperimentConfig::drift_step, "drift_step");
+    t["drift_bound"] = plain(&ExperimentConfig::drift_bound, "drift_bound");
+    t["runs"] = plain(&ExperimentConfig::runs, "runs");
+    t["assemblies"] = plain(&ExperimentConfig::assemblies, "assemblies");
+    t["seed"] = plain(&ExperimentConfig::seed, "seed");
+    t["divergence_threshold"] =
+        plain(&ExperimentConfig::divergence_threshold, "divergence_threshold");
+    t["stop_on_divergence"] = plain(&ExperimentConfig::stop_on_divergence, "stop_on_divergence");
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+void to_json(nlohmann::json& json, const ExperimentConfig& config) {
+  json = nlohmann::json::object();
+  for (const auto& [key, field] : fields()) field.write(json, config);
+}
+
+void from_json(const nlohmann::json& json, ExperimentConfig& config) {
+  if (!json.is_object()) {
+    throw InvalidArgumentError(
+        "config", fmt::format("config: is {}; rule: must be a JSON object", json.dump()));
+  }
+  ExperimentConfig read = config;  // untouched on error
+  for (const auto& [key, value] : json.items()) {
+    const auto it = fields().find(key);
+    if (it == fields().end()) {
+      std::string known;
+      for (const auto& entry : fields()) known += (known.empty() ? "" : ", ") + entry.first;
+      throw InvalidArgumentError(
+          key, fmt::format("config: key \"{}\" is unknown; rule: must be one of [{}]", key, known));
+    }
+    it->second.read(value, read);
+  }
+  config = std::move(read);
+}
+
+nlohmann::json episode_defining_json(const ExperimentConfig& config) {
+  nlohmann::json json = config;
+  json.erase("name");
+  json.erase("runs");
+  json.erase("controllers");
+  // An unset σz² and its case default give the same episodes.
+  json["measurement_variance"] = config.filter_measurement_variance();
+  return json;
+}
+
+}  // namespace twincal

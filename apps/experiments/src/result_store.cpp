@@ -1,0 +1,255 @@
+#include "twincal/experiments/result_store.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <sstream>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "twincal/core/error.hpp"
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr const char* csv_header =
+    "group,controller,run,t,upper,lower,z,z_star,relative_residual,control,estimate,offset,"
+    "estimation_error,trace_p,q_evaluations,seconds";
+
+Error file_error(const fs::path& path, std::string_view what) {
+  return Error(path.string(), fmt::format("{}: {}", path.string(), what));
+}
+
+// Shortest form that reads back to the same double; "nan" for a missing value.
+std::string number(double value) {
+  return std::isnan(value) ? std::string("nan") : fmt::format("{}", value);
+}
+
+json number_json(double value) { return std::isnan(value) ? json(nullptr) : json(value); }
+
+template <typename Column>
+std::string joined(const Column& column) {
+  std::string out;
+  for (Index i = 0; i < column.size(); ++i) {
+    if (i > 0) out += ' ';
+    out += number(column(i));
+  }
+  return out;
+}
+
+// The episode key of a CSV row: its first three fields.
+bool row_key(const std::string& line, std::string& group, std::string& controller, Index& run) {
+  const std::size_t first = line.find(',');
+  const std::size_t second = first == std::string::npos ? first : line.find(',', first + 1);
+  const std::size_t third = second == std::string::npos ? second : line.find(',', second + 1);
+  if (third == std::string::npos) return false;
+  group = line.substr(0, first);
+  controller = line.substr(first + 1, second - first - 1);
+  try {
+    run = std::stoll(line.substr(second + 1, third - second - 1));
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
+std::ofstream open_append(const fs::path& path) {
+  std::ofstream out(path, std::ios::app);
+  if (!out) throw file_error(path, "cannot be opened for appending");
+  return out;
+}
+
+}  // namespace
+
+json episode_metrics_json(const EpisodeResult& result) {
+  return json{{"group", result.group},
+              {"controller", result.controller},
+              {"run", result.run},
+              {"run_seed", result.run_seed},
+              {"steps", result.steps},
+              {"relative_residual", number_json(result.relative_residual)},
+              {"estimation_error", number_json(result.estimation_error)},
+              {"diverged_at", result.diverged() ? json(result.diverged_at) : json(nullptr)},
+              {"seconds_per_assembly", number_json(result.seconds_per_assembly)},
+              {"q_evaluations_per_assembly", number_json(result.q_evaluations_per_assembly)},
+              {"failure", result.failure}};
+}
+
+ResultStore::ResultStore(fs::path directory) : directory_(std::move(directory)) {
+  std::error_code error;
+  fs::create_directories(directory_, error);
+  if (error) throw file_error(directory_, fmt::format("cannot be created ({})", error.message()));
+  load();
+  reconcile_csv();
+  const fs::path csv_path = directory_ / csv_name;
+  const bool fresh = !fs::exists(csv_path) || fs::file_size(csv_path) == 0;
+  csv_ = open_append(csv_path);
+  if (fresh) csv_ << csv_header << '\n' << std::flush;
+  jsonl_ = open_append(directory_ / episodes_name);
+}
+
+void ResultStore::load() {
+  const fs::path summary_path = directory_ / summary_name;
+  if (fs::exists(summary_path)) {
+    std::ifstream in(summary_path);
+    json summary;
+    try {
+      summary = json::parse(in);
+    } catch (const json::exception& error) {
+      throw file_error(summary_path, fmt::format("is not valid JSON ({})", error.what()));
+    }
+    if (summary.value("format", std::string()) != "twincal.results") {
+      throw file_error(summary_path,
+                       "is not a twincal results summary (format is not "
+                       "\"twincal.results\")");
+    }
+    groups_ = summary.at("groups");
+  }
+  // episodes.jsonl is the record of finished episodes; a torn last line (a run killed while
+  // writing it) is dropped and the file rewritten without it.
+  const fs::path jsonl_path = directory_ / episodes_name;
+  if (!fs::exists(jsonl_path)) return;
+  std::ifstream in(jsonl_path);
+  std::string line;
+  bool torn = false;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    try {
+      json episode = json::parse(line);
+      done_.emplace(episode.at("group").get<std::string>(),
+                    episode.at("controller").get<std::string>(), episode.at("run").get<Index>());
+      episodes_.push_back(std::move(episode));
+    } catch (const json::exception&) {
+      torn = true;
+    }
+  }
+  in.close();
+  if (torn) {
+    std::ofstream out(jsonl_path, std::ios::trunc);
+    for (const json& episode : episodes_) out << episode.dump() << '\n';
+    if (!out) throw file_error(jsonl_path, "cannot be rewritten");
+  }
+}
+
+void ResultStore::reconcile_csv() {
+  const fs::path csv_path = directory_ / csv_name;
+  if (!fs::exists(csv_path)) return;
+  std::ifstream in(csv_path);
+  std::vector<std::string> kept;
+  std::string line;
+  bool dropped = false;
+  std::string group;
+  std::string controller;
+  Index run = 0;
+  while (std::getline(in, line)) {
+    if (kept.empty() && line == csv_header) {
+      kept.push_back(line);
+      continue;
+    }
+    if (row_key(line, group, controller, run) && done_.contains(Key{group, controller, run})) {
+      kept.push_back(line);
+    } else {
+      dropped = true;
+    }
+  }
+  in.close();
+  if (!dropped) return;
+  const fs::path temporary = directory_ / (std::string(csv_name) + ".tmp");
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    if (kept.empty()) out << csv_header << '\n';
+    for (const std::string& row : kept) out << row << '\n';
+    if (!out) throw file_error(temporary, "cannot be written");
+  }
+  fs::rename(temporary, csv_path);
+}
+
+void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) {
+  const ExperimentConfig& config = group.config;
+  const std::string name = config.group_name();
+  std::vector<Index> indices = twin.locators();
+  json twin_json{{"dimension", twin.control_dimension()},
+                 {"locator_names", twin.locator_names()},
+                 {"locator_indices", indices}};
+  for (json& stored : groups_) {
+    if (stored.at("name").get<std::string>() != name) continue;
+    ExperimentConfig previous;
+    from_json(stored.at("config"), previous);
+    const json before = episode_defining_json(previous);
+    const json now = episode_defining_json(config);
+    if (before != now) {
+      std::string differences;
+      for (const auto& [key, value] : now.items()) {
+        if (!before.contains(key) || before.at(key) != value) {
+          differences +=
+              fmt::format("{}{} was {}, is now {}", differences.empty() ? "" : "; ", key,
+                          before.contains(key) ? before.at(key).dump() : "unset", value.dump());
+        }
+      }
+      throw InvalidArgumentError(
+          "config",
+          fmt::format("config: group \"{}\" in {} was run with other settings ({}); rule: a "
+                      "results directory holds one configuration per group — use another --out "
+                      "or another group name",
+                      name, directory_.string(), differences));
+    }
+    // Same episodes: let the study grow by runs and controllers.
+    previous.runs = std::max(previous.runs, config.runs);
+    for (const ControllerSpec& spec : config.controllers) {
+      if (std::find(previous.controllers.begin(), previous.controllers.end(), spec) ==
+          previous.controllers.end()) {
+        previous.controllers.push_back(spec);
+      }
+    }
+    stored["config"] = previous;
+    if (!group.tags.empty()) stored["tags"] = group.tags;
+    return;
+  }
+  groups_.push_back(
+      json{{"name", name}, {"config", config}, {"tags", group.tags}, {"twin", twin_json}});
+}
+
+bool ResultStore::contains(const std::string& group, const std::string& controller,
+                           Index run) const {
+  return done_.contains(Key{group, controller, run});
+}
+
+void ResultStore::append(const EpisodeResult& result) {
+  std::string rows;
+  for (Index t = 0; t < result.steps; ++t) {
+    const double distance = (result.estimate.col(t) - result.offset.col(t)).norm();
+    const AssemblyId& x = result.assemblies[static_cast<std::size_t>(t)];
+    rows += fmt::format(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", result.group, result.controller,
+        result.run, t, x.upper, x.lower, number(result.z(t)), number(result.z_star(t)),
+        number((result.z(t) - result.z_star(t)) / result.z_star(t)), joined(result.control.col(t)),
+        joined(result.estimate.col(t)), joined(result.offset.col(t)), number(distance),
+        number(result.trace_p(t)), number(result.q_evaluations(t)), number(result.seconds(t)));
+  }
+  csv_ << rows << std::flush;
+  if (!csv_) throw file_error(directory_ / csv_name, "cannot be written");
+  json metrics = episode_metrics_json(result);
+  jsonl_ << metrics.dump() << '\n' << std::flush;
+  if (!jsonl_) throw file_error(directory_ / episodes_name, "cannot be written");
+  done_.emplace(result.group, result.controller, result.run);
+  episodes_.push_back(std::move(metrics));
+}
+
+void ResultStore::write_summary() const {
+  const json summary{
+      {"format", "twincal.results"}, {"version", 1}, {"groups", groups_}, {"episodes", episodes_}};
+  const fs::path path = directory_ / summary_name;
+  const fs::path temporary = directory_ / (std::string(summary_name) + ".tmp");
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << summary.dump(1) << '\n';
+    if (!out) throw file_error(temporary, "cannot be written");
+  }
+  fs::rename(temporary, path);
+}
+
+}  // namespace twincal

@@ -1,0 +1,96 @@
+#include "twincal/experiments/summary_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include <fmt/format.h>
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+
+double value_or_nan(const json& episode, const char* key) {
+  const json& value = episode.at(key);
+  return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+double mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  Index count = 0;
+  for (const double v : values) {
+    if (!std::isnan(v)) {
+      sum += v;
+      ++count;
+    }
+  }
+  return count > 0 ? sum / static_cast<double>(count) : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string cell(double value, int precision) {
+  return std::isnan(value) ? std::string("-") : fmt::format("{:.{}f}", value, precision);
+}
+
+}  // namespace
+
+std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& episodes) {
+  struct Collected {
+    std::vector<double> residuals, errors, seconds, evaluations;
+    Index runs = 0;
+    Index divergences = 0;
+  };
+  std::map<std::pair<std::string, std::string>, Collected> collected;
+  for (const json& episode : episodes) {
+    Collected& c = collected[{episode.at("group").get<std::string>(),
+                              episode.at("controller").get<std::string>()}];
+    ++c.runs;
+    if (!episode.at("diverged_at").is_null()) {
+      ++c.divergences;
+    } else {
+      c.residuals.push_back(value_or_nan(episode, "relative_residual"));
+      c.errors.push_back(value_or_nan(episode, "estimation_error"));
+    }
+    c.seconds.push_back(value_or_nan(episode, "seconds_per_assembly"));
+    c.evaluations.push_back(value_or_nan(episode, "q_evaluations_per_assembly"));
+  }
+  std::vector<SummaryRow> rows;
+  for (const json& group : groups) {
+    const std::string name = group.at("name").get<std::string>();
+    for (const json& label : group.at("config").at("controllers")) {
+      const auto it = collected.find({name, label.get<std::string>()});
+      if (it == collected.end()) continue;
+      const Collected& c = it->second;
+      rows.push_back({name, label.get<std::string>(), c.runs, c.divergences, median(c.residuals),
+                      median(c.errors), mean(c.seconds), mean(c.evaluations)});
+    }
+  }
+  return rows;
+}
+
+std::string format_summary(const std::vector<SummaryRow>& rows) {
+  std::size_t group_width = 5;
+  for (const SummaryRow& row : rows) group_width = std::max(group_width, row.group.size());
+  std::string out = fmt::format("{:<{}}  {:<10} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", "group",
+                                group_width, "controller", "runs", "diverged", "med (z-z*)/z*",
+                                "med |du-du*|", "ms/assembly", "Q/assembly");
+  for (const SummaryRow& row : rows) {
+    out += fmt::format("{:<{}}  {:<10} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", row.group,
+                       group_width, row.controller, row.runs, row.divergences,
+                       cell(row.median_relative_residual, 4), cell(row.median_estimation_error, 4),
+                       cell(1e3 * row.seconds_per_assembly, 3),
+                       cell(row.q_evaluations_per_assembly, 1));
+  }
+  return out;
+}
+
+}  // namespace twincal

@@ -1,0 +1,119 @@
+#include "twincal/experiments/sweep.hpp"
+
+#include <string>
+
+#include <fmt/format.h>
+
+#include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+
+// Applies one axis value to a config's JSON.
+void apply(json& config, const std::string& axis, const json& value) {
+  if (axis == "w") {
+    config["controllers"] = json::array({fmt::format("w={}", value.get<double>())});
+  } else if (axis == "controller") {
+    config["controllers"] = json::array({value});
+  } else if (axis == "dimension") {
+    config["analytic_dimension"] = value;
+  } else {
+    config[axis] = value;
+  }
+}
+
+// The value as it reads in a group name: commas and quotes would break the CSV's group column.
+std::string value_text(const json& value) {
+  std::string text = value.is_string() ? value.get<std::string>() : value.dump();
+  std::string clean;
+  for (const char c : text) {
+    if (c == ',') {
+      clean += '+';
+    } else if (c != '"' && c != '\n') {
+      clean += c;
+    }
+  }
+  return clean;
+}
+
+}  // namespace
+
+std::vector<ExperimentGroup> paper_study(std::span<const TwinCase> cases,
+                                         const ExperimentConfig& base) {
+  if (!base.name.empty()) {
+    throw InvalidArgumentError(
+        "base.name", fmt::format("base.name: is \"{}\"; rule: must be empty (each group is named "
+                                 "<case>/<locators>)",
+                                 base.name));
+  }
+  std::vector<ExperimentGroup> groups;
+  for (const TwinCase twin_case : cases) {
+    for (const char* locators : {"A", "B", "C", "ABC"}) {
+      ExperimentGroup group{base, json{{"case", to_string(twin_case)}, {"locators", locators}}};
+      group.config.twin_case = twin_case;
+      group.config.locators = locators;
+      groups.push_back(std::move(group));
+    }
+  }
+  return groups;
+}
+
+std::vector<ExperimentGroup> expand_sweep(const json& sweep) {
+  if (!sweep.is_object() || !sweep.contains("base") || !sweep.at("base").is_object()) {
+    throw InvalidArgumentError("sweep",
+                               "sweep: has no \"base\" object; rule: a sweep is "
+                               "{\"base\": {config}, \"axes\": {key: [values]}}");
+  }
+  for (const auto& [key, value] : sweep.items()) {
+    if (key != "base" && key != "axes") {
+      throw InvalidArgumentError(
+          "sweep", fmt::format("sweep: key \"{}\" is unknown; rule: must be base or axes", key));
+    }
+  }
+  const json base = sweep.at("base");
+  ExperimentConfig base_config = base;  // validates the base's keys
+  const std::string base_name = base_config.group_name();
+  const json axes = sweep.value("axes", json::object());
+  std::vector<std::pair<std::string, json>> axis_list;
+  for (const auto& [key, values] : axes.items()) {
+    if (!values.is_array() || values.empty()) {
+      throw InvalidArgumentError(
+          "axes." + key, fmt::format("axes.{}: is {}; rule: must be a non-empty list of values",
+                                     key, values.dump()));
+    }
+    axis_list.emplace_back(key, values);
+  }
+
+  std::vector<ExperimentGroup> groups;
+  std::vector<std::size_t> index(axis_list.size(), 0);
+  while (true) {
+    json config = base;
+    json tags = json::object();
+    std::string suffix;
+    for (std::size_t a = 0; a < axis_list.size(); ++a) {
+      const auto& [key, values] = axis_list[a];
+      const json& value = values.at(index[a]);
+      apply(config, key, value);
+      tags[key] = value;
+      suffix += fmt::format("{}{}={}", suffix.empty() ? "" : " ", key, value_text(value));
+    }
+    ExperimentGroup group{config.get<ExperimentConfig>(), tags};
+    group.config.name = suffix.empty() ? base_name : base_name + "/" + suffix;
+    require_valid(fmt::format("sweep point \"{}\"", group.config.name), group.config);
+    groups.push_back(std::move(group));
+    // Odometer over the axes, the last fastest.
+    std::size_t a = axis_list.size();
+    while (a > 0) {
+      --a;
+      if (++index[a] < axis_list[a].second.size()) break;
+      index[a] = 0;
+      if (a == 0) return groups;
+    }
+    if (axis_list.empty()) return groups;
+  }
+}
+
+}  // namespace twincal

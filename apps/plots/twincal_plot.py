@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""Figures of a twincal results directory, like Sjöberg et al. (2023), Figs. 4-11 and Table 1.
+
+For every experiment group (case x locator set, or sweep point): box plots over the runs of each
+controller's episode-mean relative residual (z - z*)/z* (upper panel) and episode-mean
+estimation error |du^ - du*| (lower panel). Boxes cover the runs that did not diverge; the runs
+that did are counted in a red circle above the controller whose redness grows with the count.
+Table 1 analog: mean wall time and Q-evaluations per assembly of the default controller and the
+w-controllers, for 1 and 3 locators, per case (Markdown and CSV), plus every group x controller.
+
+    twincal_plot.py --results DIR --out DIR      (normally run by `twincal plot`)
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
+from matplotlib.patches import Circle  # noqa: E402,F401
+
+
+def number(value):
+    return math.nan if value is None else float(value)
+
+
+def load(results):
+    with open(os.path.join(results, "summary.json"), encoding="utf-8") as f:
+        summary = json.load(f)
+    if summary.get("format") != "twincal.results":
+        sys.exit(f"twincal_plot: {results}/summary.json is not a twincal results summary")
+    return summary["groups"], summary["episodes"]
+
+
+def file_stem(name):
+    return re.sub(r"[^A-Za-z0-9=.+-]+", "_", name).strip("_")
+
+
+def group_title(group, runs):
+    config = group["config"]
+    twin = group["twin"]
+    names = ", ".join(twin["locator_names"])
+    label = config["locators"]
+    locators = f"locator {label}" if len(twin["locator_names"]) == 1 else f"locators {label}"
+    title = f"{group['name']}: {config['case']}, {locators} ({names})"
+    return f"{title} — {runs} runs × {config['assemblies']} assemblies"
+
+
+def plot_group(group, episodes, out):
+    controllers = [c for c in group["config"]["controllers"]
+                   if any(e["controller"] == c for e in episodes)]
+    if not controllers:
+        return None
+    residuals, errors, diverged, runs = [], [], [], 0
+    for controller in controllers:
+        mine = [e for e in episodes if e["controller"] == controller]
+        runs = max(runs, len(mine))
+        kept = [e for e in mine if e["diverged_at"] is None]
+        residuals.append([number(e["relative_residual"]) for e in kept])
+        errors.append([number(e["estimation_error"]) for e in kept])
+        diverged.append((len(mine) - len(kept), len(mine)))
+
+    figure, (upper, lower) = plt.subplots(2, 1, sharex=True, figsize=(max(6.0, 0.6 * len(controllers) + 2), 6.5))
+    positions = list(range(1, len(controllers) + 1))
+    for axis, data, label in ((upper, residuals, "mean (z − z*)/z*"),
+                              (lower, errors, "mean ‖δû − δu*‖")):
+        present = [(p, d) for p, d in zip(positions, data) if d]
+        if present:
+            axis.boxplot([d for _, d in present], positions=[p for p, _ in present], widths=0.6,
+                         medianprops={"color": "tab:blue"}, flierprops={"markersize": 3})
+        axis.set_ylabel(label)
+        axis.grid(axis="y", alpha=0.3)
+    # Divergences: a red circle above the controller, redder for more, with the count inside.
+    for position, (count, total) in zip(positions, diverged):
+        if count == 0:
+            continue
+        shade = plt.cm.Reds(0.35 + 0.65 * count / max(total, 1))
+        upper.annotate(str(count), xy=(position, 1.0), xycoords=("data", "axes fraction"),
+                       xytext=(0, 9), textcoords="offset points", ha="center", va="center",
+                       fontsize=7, color="white" if count / max(total, 1) > 0.5 else "black",
+                       bbox={"boxstyle": "circle,pad=0.3", "facecolor": shade, "edgecolor": "darkred"})
+    lower.set_xticks(positions)
+    lower.set_xticklabels(controllers, rotation=45, ha="right")
+    upper.set_title(group_title(group, runs), fontsize=9, pad=20)
+    figure.tight_layout()
+    stem = file_stem(group["name"])
+    for extension in ("png", "svg"):
+        figure.savefig(os.path.join(out, f"{stem}.{extension}"), dpi=150)
+    plt.close(figure)
+    return stem
+
+
+def mean(values):
+    values = [v for v in values if not math.isnan(v)]
+    return sum(values) / len(values) if values else math.nan
+
+
+def table1(groups, episodes, out):
+    """Mean time (s) and Q-evaluations per assembly, by case, controller family and locators."""
+    by_group = {g["name"]: g for g in groups}
+    detail = []
+    families = {}
+    for group in groups:
+        mine = [e for e in episodes if e["group"] == group["name"]]
+        dimension = group["twin"]["dimension"]
+        for controller in group["config"]["controllers"]:
+            rows = [e for e in mine if e["controller"] == controller]
+            if not rows:
+                continue
+            seconds = mean([number(e["seconds_per_assembly"]) for e in rows])
+            evaluations = mean([number(e["q_evaluations_per_assembly"]) for e in rows])
+            detail.append([group["name"], controller, dimension, len(rows), seconds, evaluations])
+            family = ("w-controllers" if controller.startswith("w=") else
+                      "default controller" if controller == "default" else controller)
+            key = (group["config"]["case"], family, dimension)
+            families.setdefault(key, []).append((seconds, evaluations))
+    with open(os.path.join(out, "table1_detail.csv"), "w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(["group", "controller", "locators", "runs", "seconds_per_assembly",
+                         "q_evaluations_per_assembly"])
+        writer.writerows(detail)
+
+    cases = sorted({case for case, _, _ in families})
+    dimensions = sorted({d for _, _, d in families})
+    order = ["default controller", "w-controllers", "baseline", "nominal"]
+    names = [n for n in order if any(f == n for _, f, _ in families)]
+    columns = [(case, d) for case in cases for d in dimensions]
+    with open(os.path.join(out, "table1.csv"), "w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(["controllers", "case", "locators", "seconds_per_assembly",
+                         "q_evaluations_per_assembly"])
+        for name in names:
+            for case, d in columns:
+                values = families.get((case, name, d))
+                if values:
+                    writer.writerow([name, case, d, mean([v[0] for v in values]),
+                                     mean([v[1] for v in values])])
+    lines = ["Mean wall time (µs) / Q-evaluations per assembly, to propose u_t and update δû_t "
+             "and P_t (the paper's Table 1 gives seconds for its Python FEM twin).", "",
+             "| controllers | " + " | ".join(f"{c}, {d} locator{'s' if d != 1 else ''}"
+                                            for c, d in columns) + " |",
+             "|---|" + "---|" * len(columns)]
+    for name in names:
+        cells = []
+        for case, d in columns:
+            values = families.get((case, name, d))
+            cells.append("–" if not values else
+                         f"{1e6 * mean([v[0] for v in values]):.1f} µs / "
+                         f"{mean([v[1] for v in values]):.0f}")
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    with open(os.path.join(out, "table1.md"), "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+    return "\n".join(lines)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--results", required=True, help="a twincal results directory")
+    parser.add_argument("--out", help="where the figures go (default RESULTS/figures)")
+    args = parser.parse_args()
+    out = args.out or os.path.join(args.results, "figures")
+    os.makedirs(out, exist_ok=True)
+    groups, episodes = load(args.results)
+    made = []
+    for group in groups:
+        stem = plot_group(group, [e for e in episodes if e["group"] == group["name"]], out)
+        if stem:
+            made.append(stem)
+    print(table1(groups, episodes, out))
+    print(f"\n{len(made)} figures (PNG + SVG), table1.md, table1.csv and table1_detail.csv "
+          f"in {out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,95 @@
+# End-to-end test of the twincal CLI (ctest apps.cli_end_to_end): a tiny study, an interrupted
+# run resumed, a rerun that skips everything, another thread count, a conflicting config, the
+# summary and every --help. Results are compared without their wall-time columns.
+#   cmake -DTWINCAL=<twincal> -DWORK_DIR=<scratch> -P cli_end_to_end.cmake
+
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+set(study run --case analytic --locators ABC --runs 2 --assemblies 10
+    --controllers baseline,default,w=0.5,w=1 --quiet)
+
+function(twincal_ok)
+  execute_process(COMMAND "${TWINCAL}" ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out
+    ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "twincal ${ARGN} failed (${status}):\n${out}\n${err}")
+  endif()
+  set(output "${out}" PARENT_SCOPE)
+endfunction()
+
+# The results without wall times: the seconds column of the CSV and seconds_per_assembly.
+function(read_results dir out_var)
+  file(READ "${dir}/assemblies.csv" rows)
+  string(REGEX REPLACE ",[^,\n]*\n" "\n" rows "${rows}")
+  file(READ "${dir}/episodes.jsonl" episodes)
+  string(REGEX REPLACE "\"seconds_per_assembly\":[^,]*," "" episodes "${episodes}")
+  string(REGEX MATCHALL "\n" row_lines "${rows}")
+  string(REGEX MATCHALL "\n" episode_lines "${episodes}")
+  list(LENGTH row_lines row_count)
+  list(LENGTH episode_lines episode_count)
+  set(${out_var} "${rows}${episodes}" PARENT_SCOPE)
+  set(${out_var}_rows ${row_count} PARENT_SCOPE)
+  set(${out_var}_episodes ${episode_count} PARENT_SCOPE)
+endfunction()
+
+# 1. The study: 2 runs x 4 controllers x 10 assemblies.
+twincal_ok(${study} --threads 2 --out "${WORK_DIR}/a")
+if(NOT output MATCHES "8 episodes: 8 run now, 0 already")
+  message(FATAL_ERROR "first run did not run 8 episodes:\n${output}")
+endif()
+read_results("${WORK_DIR}/a" first)
+if(NOT first_rows EQUAL 81 OR NOT first_episodes EQUAL 8)
+  message(FATAL_ERROR "expected 1 + 80 CSV rows and 8 episodes, got ${first_rows} and "
+    "${first_episodes}")
+endif()
+
+# 2. A rerun skips every finished episode and changes nothing.
+twincal_ok(${study} --threads 2 --out "${WORK_DIR}/a")
+if(NOT output MATCHES "8 episodes: 0 run now, 8 already")
+  message(FATAL_ERROR "rerun did not skip the finished episodes:\n${output}")
+endif()
+read_results("${WORK_DIR}/a" second)
+if(NOT first STREQUAL second)
+  message(FATAL_ERROR "a rerun changed the results")
+endif()
+
+# 3. An interrupted run: keep 3 episode records (the CSV still holds all 8 episodes' rows, as
+#    after a kill between the CSV and the record); the resume redoes 5 and ends where 1 did.
+file(STRINGS "${WORK_DIR}/a/episodes.jsonl" records)
+list(SUBLIST records 0 3 kept)
+list(JOIN kept "\n" kept_text)
+file(WRITE "${WORK_DIR}/a/episodes.jsonl" "${kept_text}\n")
+twincal_ok(${study} --threads 2 --out "${WORK_DIR}/a")
+if(NOT output MATCHES "8 episodes: 5 run now, 3 already")
+  message(FATAL_ERROR "resume did not run the 5 missing episodes:\n${output}")
+endif()
+read_results("${WORK_DIR}/a" resumed)
+if(NOT first STREQUAL resumed)
+  message(FATAL_ERROR "the resumed results differ from the uninterrupted ones")
+endif()
+
+# 4. One thread gives the same results, in the same order.
+twincal_ok(${study} --threads 1 --out "${WORK_DIR}/b")
+read_results("${WORK_DIR}/b" single)
+if(NOT first STREQUAL single)
+  message(FATAL_ERROR "--threads 1 and --threads 2 give different results")
+endif()
+
+# 5. A different config for a stored group is refused, naming the setting.
+execute_process(COMMAND "${TWINCAL}" ${study} --seed 7 --out "${WORK_DIR}/a"
+  RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_QUIET)
+if(status EQUAL 0 OR NOT err MATCHES "seed was 2023, is now 7")
+  message(FATAL_ERROR "a conflicting config was not refused (${status}): ${err}")
+endif()
+
+# 6. The summary, and --help everywhere.
+twincal_ok(summary --results "${WORK_DIR}/a")
+if(NOT output MATCHES "analytic/ABC +w=1 +2 ")
+  message(FATAL_ERROR "summary lacks the w=1 row:\n${output}")
+endif()
+foreach(command run paper sweep plot summary)
+  twincal_ok(${command} --help)
+  if(NOT output MATCHES "usage: twincal ${command}")
+    message(FATAL_ERROR "twincal ${command} --help printed:\n${output}")
+  endif()
+endforeach()

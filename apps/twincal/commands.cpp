@@ -1,0 +1,332 @@
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "arguments.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/experiments/experiment_config.hpp"
+#include "twincal/experiments/experiment_runner.hpp"
+#include "twincal/experiments/result_store.hpp"
+#include "twincal/experiments/summary_table.hpp"
+#include "twincal/experiments/sweep.hpp"
+#include "twincal/experiments/twin_cases.hpp"
+
+namespace twincal::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr const char* config_options_help =
+    R"(  --config FILE.json     base config (docs/cli.md has every key); options below override it
+  --runs N               runs per controller (default 10)
+  --assemblies N         assemblies per episode (default 100: all, in a seeded random order)
+  --seed S               master seed of the runs (default 2023)
+  --twin-seed S          seed of the twin (default 2023)
+  --dimension D          locators of the analytic twin (default 3)
+  --filter NAME          merwe (UKF, default) | julier | cubature | fifth_degree | simplex
+  --sampler NAME         sobol (default) | halton | random | latin_hypercube
+  --exploration NAME     trace (default) | weighted_trace | log_det | max_eigenvalue
+  --candidates N         candidates per assembly (default 2^(2+d))
+  --controllers LIST     comma-separated: baseline, nominal, default, w=<0..1>, or "paper"
+                         (default paper: baseline, default, w=0, 0.1, ..., 1)
+)";
+
+constexpr const char* execution_help =
+    R"(  --out DIR              results directory (created; rerunning resumes it)
+  --threads N            worker threads (default: all cores)
+  --quiet                no progress line
+)";
+
+json read_json_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path, fmt::format("{}: cannot be opened", path));
+  try {
+    return json::parse(in);
+  } catch (const json::exception& error) {
+    throw InvalidArgumentError(path, fmt::format("{}: is not valid JSON ({})", path, error.what()));
+  }
+}
+
+std::vector<ControllerSpec> parse_controllers(const std::string& list) {
+  if (list == "paper") return ControllerSpec::paper();
+  std::vector<ControllerSpec> specs;
+  std::size_t begin = 0;
+  while (begin <= list.size()) {
+    const std::size_t end = std::min(list.find(',', begin), list.size());
+    specs.push_back(ControllerSpec::parse(std::string_view(list).substr(begin, end - begin)));
+    begin = end + 1;
+  }
+  return specs;
+}
+
+// The base config from --config and the options shared by run and paper.
+ExperimentConfig read_config(Arguments& arguments) {
+  ExperimentConfig config;
+  if (const auto path = arguments.text("config")) config = read_json_file(*path);
+  if (const auto v = arguments.integer("runs")) config.runs = *v;
+  if (const auto v = arguments.integer("assemblies")) config.assemblies = *v;
+  if (const auto v = arguments.seed("seed")) config.seed = *v;
+  if (const auto v = arguments.seed("twin-seed")) config.twin_seed = *v;
+  if (const auto v = arguments.integer("dimension")) config.analytic_dimension = *v;
+  if (const auto v = arguments.text("filter")) config.filter = parse_filter_scheme(*v, "--filter");
+  if (const auto v = arguments.text("sampler")) {
+    config.sampler = parse_candidate_sampler(*v, "--sampler");
+  }
+  if (const auto v = arguments.text("exploration")) {
+    config.exploration = parse_exploration_kind(*v, "--exploration");
+  }
+  if (const auto v = arguments.integer("candidates")) config.candidates = *v;
+  if (const auto v = arguments.text("controllers")) config.controllers = parse_controllers(*v);
+  if (const auto v = arguments.text("controller")) config.controllers = parse_controllers(*v);
+  return config;
+}
+
+RunOptions read_run_options(Arguments& arguments) {
+  RunOptions options;
+  if (const auto v = arguments.integer("threads")) options.threads = *v;
+  options.progress = !arguments.flag("quiet");
+  return options;
+}
+
+// Runs the groups into `out`, then prints what was done and the summary of these groups.
+int run_study(const std::vector<ExperimentGroup>& groups, const fs::path& out,
+              const RunOptions& options) {
+  ResultStore store(out);
+  const RunReport report = run_experiments(groups, store, options);
+  const Index threads =
+      options.threads > 0
+          ? options.threads
+          : std::max<Index>(1, static_cast<Index>(std::thread::hardware_concurrency()));
+  fmt::print("{} episodes: {} run now, {} already in {}; {:.1f} s on {} thread(s)\n\n",
+             report.planned, report.completed, report.skipped, out.string(), report.seconds,
+             threads);
+  std::set<std::string> names;
+  for (const ExperimentGroup& group : groups) names.insert(group.config.group_name());
+  std::vector<SummaryRow> rows;
+  for (SummaryRow& row : summarize(store.groups(), store.episodes())) {
+    if (names.contains(row.group)) rows.push_back(std::move(row));
+  }
+  fmt::print("{}", format_summary(rows));
+  return 0;
+}
+
+bool wants_help(Arguments& arguments, const char* help) {
+  if (!arguments.flag("help")) return false;
+  fmt::print("{}", help);
+  return true;
+}
+
+const std::set<std::string, std::less<>> common_flags{"help", "quiet"};
+
+}  // namespace
+
+int run_command(std::span<const std::string> args) {
+  static const std::string help = fmt::format(
+      R"(usage: twincal run [options]
+
+Runs one configuration: one twin case and locator set, its controllers, N runs.
+
+  --case NAME            body | door (the FEM twin) | analytic (default body)
+  --locators SET         A | B | C | ABC | all | names or indices joined by commas (default A)
+  --name NAME            group name in the results (default <case>/<locators>)
+{}{})",
+      config_options_help, execution_help);
+  Arguments arguments(args, common_flags);
+  if (wants_help(arguments, help.c_str())) return 0;
+  ExperimentConfig config = read_config(arguments);
+  if (const auto v = arguments.text("case")) config.twin_case = parse_twin_case(*v, "--case");
+  if (const auto v = arguments.text("locators")) config.locators = *v;
+  if (const auto v = arguments.text("name")) config.name = *v;
+  const fs::path out = arguments.text("out").value_or("results");
+  const RunOptions options = read_run_options(arguments);
+  arguments.require_all_read();
+  return run_study({ExperimentGroup{config, json{{"case", to_string(config.twin_case)},
+                                                 {"locators", config.locators}}}},
+                   out, options);
+}
+
+int paper_command(std::span<const std::string> args) {
+  static const std::string help = fmt::format(
+      R"(usage: twincal paper [options]
+
+Runs the paper's matrix (Sec. 3): for each case, locator sets A, B, C and ABC, each with the
+baseline, the default controller and the w-controllers w = 0, 0.1, ..., 1, over N runs of 100
+assemblies; prints the summary table. Then `twincal plot --results DIR` makes Figs. 4-11 and
+Table 1.
+
+  --case NAME            body | door | all (body and door; default) | analytic
+{}{})",
+      config_options_help, execution_help);
+  Arguments arguments(args, common_flags);
+  if (wants_help(arguments, help.c_str())) return 0;
+  ExperimentConfig base = read_config(arguments);
+  const std::string which = arguments.text("case").value_or("all");
+  std::vector<TwinCase> cases;
+  if (which == "all") {
+    cases = {TwinCase::body, TwinCase::door};
+  } else {
+    cases = {parse_twin_case(which, "--case")};
+  }
+  const fs::path out = arguments.text("out").value_or("results/paper");
+  const RunOptions options = read_run_options(arguments);
+  arguments.require_all_read();
+  return run_study(paper_study(cases, base), out, options);
+}
+
+int sweep_command(std::span<const std::string> args) {
+  constexpr const char* help = R"(usage: twincal sweep --config SWEEP.json [options]
+
+Runs an ablation: the cartesian product of the axes over a base config, e.g.
+  {"base": {"case": "analytic", "locators": "ABC", "runs": 5},
+   "axes": {"filter": ["merwe", "cubature"], "w": [0.3, 1.0]}}
+An axis is any config key (docs/cli.md), or "w", "controller", "dimension". Each point is a
+group "<base>/<key>=<value> ..." tagged with its axis values.
+
+  --config FILE.json     the sweep (required)
+  --out DIR              results directory (default results/sweep; rerunning resumes it)
+  --threads N            worker threads (default: all cores)
+  --quiet                no progress line
+)";
+  Arguments arguments(args, common_flags);
+  if (wants_help(arguments, help)) return 0;
+  const std::optional<std::string> path = arguments.text("config");
+  if (!path) throw InvalidArgumentError("config", "--config: is missing; rule: sweep needs one");
+  const fs::path out = arguments.text("out").value_or("results/sweep");
+  const RunOptions options = read_run_options(arguments);
+  arguments.require_all_read();
+  return run_study(expand_sweep(read_json_file(*path)), out, options);
+}
+
+int summary_command(std::span<const std::string> args) {
+  constexpr const char* help = R"(usage: twincal summary --results DIR
+
+Prints the summary table of a results directory: per group and controller, the runs, the
+divergences, the medians over the non-diverged runs of the mean relative residual (z-z*)/z* and
+of the mean estimation error |du^ - du*|, and the mean time (ms) and Q-evaluations per assembly.
+)";
+  Arguments arguments(args, common_flags);
+  if (wants_help(arguments, help)) return 0;
+  const std::optional<std::string> results = arguments.text("results");
+  arguments.require_all_read();
+  if (!results || !fs::exists(fs::path(*results) / ResultStore::summary_name)) {
+    throw InvalidArgumentError("results",
+                               fmt::format("--results: \"{}\" holds no {}; rule: must "
+                                           "be a results directory",
+                                           results.value_or(""), ResultStore::summary_name));
+  }
+  ResultStore store(*results);
+  store.write_summary();  // brings summary.json up to date after an interrupted run
+  fmt::print("{}", format_summary(summarize(store.groups(), store.episodes())));
+  return 0;
+}
+
+namespace {
+
+std::string shell_quote(const std::string& text) {
+  std::string quoted = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      quoted += "'\\''";
+    } else {
+      quoted += c;
+    }
+  }
+  return quoted + "'";
+}
+
+// TWINCAL_PYTHON, else Debian's /usr/bin/python3, else python3 on PATH: the first that can
+// import matplotlib.
+std::string find_python() {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("TWINCAL_PYTHON"); env != nullptr && *env != '\0') {
+    candidates.emplace_back(env);
+  }
+  candidates.emplace_back("/usr/bin/python3");
+  candidates.emplace_back("python3");
+  for (const std::string& python : candidates) {
+    const std::string probe = shell_quote(python) + " -c 'import matplotlib' > /dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) return python;
+  }
+  throw Error("python", fmt::format("python: none of [{}] can import matplotlib; rule: install "
+                                    "python3-matplotlib or set TWINCAL_PYTHON to an interpreter "
+                                    "that has it",
+                                    fmt::join(candidates, ", ")));
+}
+
+// TWINCAL_PLOT_SCRIPT, else the installed copy next to the executable (../share/twincal/), else
+// the source tree's (a build-tree executable).
+fs::path find_plot_script(const char* argv0) {
+  if (const char* env = std::getenv("TWINCAL_PLOT_SCRIPT"); env != nullptr && *env != '\0') {
+    return env;
+  }
+  std::error_code error;
+  fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  if (error) executable = fs::absolute(argv0);
+  const fs::path installed = executable.parent_path().parent_path() / TWINCAL_PLOT_SCRIPT_INSTALL;
+  if (fs::exists(installed)) return installed;
+  const fs::path source = TWINCAL_PLOT_SCRIPT_SOURCE;
+  if (fs::exists(source)) return source;
+  throw Error("twincal_plot.py",
+              fmt::format("twincal_plot.py: found neither at {} nor at {}; rule: set "
+                          "TWINCAL_PLOT_SCRIPT to its path",
+                          installed.string(), source.string()));
+}
+
+}  // namespace
+
+int plot_command(std::span<const std::string> args, const char* argv0) {
+  constexpr const char* help = R"(usage: twincal plot --results DIR [--out DIR]
+
+Makes the figures of a results directory with matplotlib (apps/plots/twincal_plot.py), as PNG
+and SVG: per case and locator set, box plots over the runs of the mean relative residual (upper
+panel) and of the mean estimation error (lower panel) per controller, divergences as red
+circles whose intensity grows with their count (the paper's Figs. 4-11); and the Table 1 analog,
+mean time and Q-evaluations per assembly per controller for 1 and 3 locators, as Markdown and
+CSV.
+
+  --results DIR          results directory (of run, paper or sweep)
+  --out DIR              where the figures go (default DIR/figures)
+
+The interpreter is $TWINCAL_PYTHON, else /usr/bin/python3, else python3 (the first that has
+matplotlib); the script is $TWINCAL_PLOT_SCRIPT, else the installed or the source tree's copy.
+)";
+  Arguments arguments(args, common_flags);
+  if (wants_help(arguments, help)) return 0;
+  const std::optional<std::string> results = arguments.text("results");
+  const std::optional<std::string> out = arguments.text("out");
+  arguments.require_all_read();
+  if (!results || !fs::exists(fs::path(*results) / ResultStore::summary_name)) {
+    throw InvalidArgumentError("results",
+                               fmt::format("--results: \"{}\" holds no {}; rule: must "
+                                           "be a results directory",
+                                           results.value_or(""), ResultStore::summary_name));
+  }
+  {
+    ResultStore store(*results);
+    store.write_summary();
+  }
+  const fs::path figures = out ? fs::path(*out) : fs::path(*results) / "figures";
+  const std::string command = fmt::format("{} {} --results {} --out {}", shell_quote(find_python()),
+                                          shell_quote(find_plot_script(argv0).string()),
+                                          shell_quote(*results), shell_quote(figures.string()));
+  const int status = std::system(command.c_str());
+  if (status != 0) {
+    throw Error("twincal_plot.py",
+                fmt::format("twincal_plot.py: failed (status {}): {}", status, command));
+  }
+  return 0;
+}
+
+}  // namespace twincal::cli

@@ -1,0 +1,52 @@
+// twincal: run the paper's study and ablations of online calibration and control of digital
+// twins, and make their figures. `twincal --help`, `twincal <command> --help`.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+
+namespace {
+
+constexpr const char* usage =
+    R"(twincal — online calibration and control of digital twins (Sjöberg et al. 2023)
+
+usage: twincal <command> [options]      twincal <command> --help
+
+commands:
+  run       run one configuration (a case, a locator set, controllers) for N runs
+  paper     run the paper's matrix: cases x locator sets A, B, C, ABC x 13 controllers x runs
+  sweep     run an ablation: the cartesian product of axes over a base config (JSON)
+  plot      make the figures (PNG, SVG) and the Table 1 analog from a results directory
+  summary   print the summary table of a results directory
+
+Results directories are resumable: rerunning a command skips the finished episodes.
+See docs/cli.md.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    fmt::print("{}", usage);
+    return args.empty() ? 2 : 0;
+  }
+  const std::string& command = args[0];
+  const std::span<const std::string> rest(args.begin() + 1, args.end());
+  try {
+    if (command == "run") return twincal::cli::run_command(rest);
+    if (command == "paper") return twincal::cli::paper_command(rest);
+    if (command == "sweep") return twincal::cli::sweep_command(rest);
+    if (command == "plot") return twincal::cli::plot_command(rest, argv[0]);
+    if (command == "summary") return twincal::cli::summary_command(rest);
+    fmt::print(stderr, "twincal: unknown command \"{}\"\n\n{}", command, usage);
+    return 2;
+  } catch (const std::exception& error) {
+    fmt::print(stderr, "twincal {}: error: {}\n", command, error.what());
+    return 1;
+  }
+}
