@@ -214,7 +214,7 @@ int summary_command(std::span<const std::string> args) {
 
 Prints the summary table of a results directory: per group and controller, the runs, the
 divergences, the medians over the non-diverged runs of the mean relative residual (z-z*)/z* and
-of the mean estimation error |du^ - du*|, and the mean time (ms) and Q-evaluations per assembly.
+of the mean estimation error |du^ - du*|, and the mean time (µs) and Q-evaluations per assembly.
 )";
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help)) return 0;

@@ -82,12 +82,12 @@ std::string format_summary(const std::vector<SummaryRow>& rows) {
   for (const SummaryRow& row : rows) group_width = std::max(group_width, row.group.size());
   std::string out = fmt::format("{:<{}}  {:<10} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", "group",
                                 group_width, "controller", "runs", "diverged", "med (z-z*)/z*",
-                                "med |du-du*|", "ms/assembly", "Q/assembly");
+                                "med |du-du*|", "us/assembly", "Q/assembly");
   for (const SummaryRow& row : rows) {
     out += fmt::format("{:<{}}  {:<10} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", row.group,
                        group_width, row.controller, row.runs, row.divergences,
                        cell(row.median_relative_residual, 4), cell(row.median_estimation_error, 4),
-                       cell(1e3 * row.seconds_per_assembly, 3),
+                       cell(1e6 * row.seconds_per_assembly, 1),
                        cell(row.q_evaluations_per_assembly, 1));
   }
   return out;

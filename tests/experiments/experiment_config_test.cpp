@@ -1,0 +1,102 @@
+#include "twincal/experiments/experiment_config.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/error.hpp"
+
+namespace twincal {
+namespace {
+
+TEST(ExperimentConfig, DefaultsAreThePapersAndValid) {
+  const ExperimentConfig config;
+  EXPECT_FALSE(config.validate().has_value());
+  EXPECT_EQ(config.runs, 10);
+  EXPECT_EQ(config.assemblies, 100);
+  EXPECT_EQ(config.controllers.size(), 13U);
+  EXPECT_EQ(config.filter_measurement_variance(), 1e-4);
+  ExperimentConfig door;
+  door.twin_case = TwinCase::door;
+  EXPECT_EQ(door.filter_measurement_variance(), 1e-6);
+  EXPECT_EQ(config.group_name(), "body/A");
+}
+
+TEST(ExperimentConfig, RoundTripsThroughJson) {
+  ExperimentConfig config;
+  config.name = "trial";
+  config.twin_case = TwinCase::analytic;
+  config.analytic_dimension = 5;
+  config.locators = "A,C";
+  config.controllers = {ControllerSpec::nominal(), ControllerSpec::lookahead(0.7)};
+  config.filter = FilterScheme::cubature;
+  config.sampler = CandidateSampler::halton;
+  config.exploration = ExplorationKind::log_det;
+  config.candidates = 12;
+  config.measurement_variance = 3e-5;
+  config.plant_noise_variance = 1e-6;
+  config.seed = 99;
+  config.stop_on_divergence = false;
+  const nlohmann::json json = config;
+  const ExperimentConfig back = json.get<ExperimentConfig>();
+  EXPECT_EQ(nlohmann::json(back), json);
+  EXPECT_EQ(back.controllers, config.controllers);
+  EXPECT_EQ(back.candidates, config.candidates);
+  EXPECT_EQ(back.measurement_variance, config.measurement_variance);
+  EXPECT_EQ(back.filter, FilterScheme::cubature);
+}
+
+TEST(ExperimentConfig, ReadsPartialDocumentsAndLocatorLists) {
+  const auto config = nlohmann::json::parse(R"({"case": "door", "locators": ["L1", 4],
+                                                "controllers": "paper", "runs": 3})")
+                          .get<ExperimentConfig>();
+  EXPECT_EQ(config.twin_case, TwinCase::door);
+  EXPECT_EQ(config.locators, "L1,4");
+  EXPECT_EQ(config.runs, 3);
+  EXPECT_EQ(config.assemblies, 100);
+}
+
+TEST(ExperimentConfig, RejectsUnknownKeysAndWrongTypesNamingThem) {
+  try {
+    (void)nlohmann::json::parse(R"({"rnus": 3})").get<ExperimentConfig>();
+    FAIL() << "no error";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_EQ(error.argument(), "rnus");
+  }
+  EXPECT_THROW((void)nlohmann::json::parse(R"({"runs": "many"})").get<ExperimentConfig>(),
+               InvalidArgumentError);
+  EXPECT_THROW((void)nlohmann::json::parse(R"({"filter": "ukf"})").get<ExperimentConfig>(),
+               InvalidArgumentError);
+}
+
+TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
+  ExperimentConfig config;
+  config.runs = 0;
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("runs is 0"), std::string::npos);
+  config = {};
+  config.controllers = {ControllerSpec::default_controller(), ControllerSpec::default_controller()};
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("repeats \"default\""), std::string::npos);
+  config = {};
+  config.measurement_variance = 0.0;
+  EXPECT_TRUE(config.validate().has_value());
+  config = {};
+  config.name = "a,b";
+  EXPECT_TRUE(config.validate().has_value());
+}
+
+TEST(ExperimentConfig, EpisodeDefiningJsonIgnoresNameRunsAndControllers) {
+  ExperimentConfig a;
+  ExperimentConfig b;
+  b.name = "other";
+  b.runs = 20;
+  b.controllers = {ControllerSpec::baseline()};
+  EXPECT_EQ(episode_defining_json(a), episode_defining_json(b));
+  b.measurement_variance = 1e-4;  // the body's default, spelled out
+  EXPECT_EQ(episode_defining_json(a), episode_defining_json(b));
+  b.seed = 1;
+  EXPECT_NE(episode_defining_json(a), episode_defining_json(b));
+}
+
+}  // namespace
+}  // namespace twincal

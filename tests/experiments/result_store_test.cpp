@@ -1,0 +1,95 @@
+#include "twincal/experiments/result_store.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "twincal/experiments/episode_runner.hpp"
+#include "twincal/experiments/twin_cases.hpp"
+
+namespace twincal {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path store_scratch(const std::string& name) {
+  const fs::path path = fs::path(::testing::TempDir()) / ("twincal_store_" + name);
+  fs::remove_all(path);
+  return path;
+}
+
+ExperimentGroup store_group() {
+  // From JSON: assigning "B" to the defaulted string trips a GCC 12 -O3 -Wstringop-overflow
+  // false positive.
+  const auto config = nlohmann::json::parse(R"({"case": "analytic", "locators": "B",
+      "controllers": ["baseline", "w=0.5"], "assemblies": 5})")
+                          .get<ExperimentConfig>();
+  return {config, nlohmann::json::object()};
+}
+
+Index store_lines(const fs::path& path) {
+  std::ifstream in(path);
+  Index lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  return lines;
+}
+
+TEST(ResultStore, AppendsRowsAndRecordsAndReloadsThem) {
+  const fs::path dir = store_scratch("reload");
+  const ExperimentGroup group = store_group();
+  const CaseTwin twin = make_case_twin(group.config);
+  {
+    ResultStore store(dir);
+    store.add_group(group, twin);
+    store.append(run_episode(twin, group.config, ControllerSpec::baseline(), 0));
+    store.append(run_episode(twin, group.config, ControllerSpec::lookahead(0.5), 0));
+    store.write_summary();
+    EXPECT_TRUE(store.contains("analytic/B", "w=0.5", 0));
+    EXPECT_FALSE(store.contains("analytic/B", "w=0.5", 1));
+  }
+  EXPECT_EQ(store_lines(dir / ResultStore::csv_name), 1 + 2 * 5);
+  const ResultStore reopened(dir);
+  ASSERT_EQ(reopened.episodes().size(), 2U);
+  EXPECT_EQ(reopened.episodes()[1].at("controller"), "w=0.5");
+  EXPECT_TRUE(reopened.contains("analytic/B", "baseline", 0));
+  ASSERT_EQ(reopened.groups().size(), 1U);
+  EXPECT_EQ(reopened.groups()[0].at("twin").at("locator_names"), nlohmann::json::array({"B"}));
+}
+
+TEST(ResultStore, DropsTheRowsOfAnEpisodeWithoutRecordAndATornRecord) {
+  const fs::path dir = store_scratch("torn");
+  const ExperimentGroup group = store_group();
+  const CaseTwin twin = make_case_twin(group.config);
+  {
+    ResultStore store(dir);
+    store.add_group(group, twin);
+    store.write_summary();
+    store.append(run_episode(twin, group.config, ControllerSpec::baseline(), 0));
+  }
+  {
+    // A run killed after writing an episode's rows and half its record.
+    const EpisodeResult lost = run_episode(twin, group.config, ControllerSpec::baseline(), 1);
+    std::ofstream csv(dir / ResultStore::csv_name, std::ios::app);
+    csv << "analytic/B,baseline,1,0,1,1,1,1,0,0,0,0,0,nan,0,0\n";
+    std::ofstream jsonl(dir / ResultStore::episodes_name, std::ios::app);
+    jsonl << R"({"group":"analytic/B","contr)";
+    (void)lost;
+  }
+  const ResultStore store(dir);
+  EXPECT_EQ(store.episodes().size(), 1U);
+  EXPECT_FALSE(store.contains("analytic/B", "baseline", 1));
+  EXPECT_EQ(store_lines(dir / ResultStore::csv_name), 1 + 5);
+  EXPECT_EQ(store_lines(dir / ResultStore::episodes_name), 1);
+}
+
+TEST(ResultStore, RefusesAForeignSummary) {
+  const fs::path dir = store_scratch("foreign");
+  fs::create_directories(dir);
+  std::ofstream(dir / ResultStore::summary_name) << R"({"format": "other"})";
+  EXPECT_THROW(ResultStore store(dir), Error);
+}
+
+}  // namespace
+}  // namespace twincal

@@ -1,0 +1,60 @@
+#include "twincal/experiments/summary_table.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+
+json summary_episode(const std::string& controller, Index run, double residual, double error,
+                     bool diverged) {
+  return json{{"group", "g"},
+              {"controller", controller},
+              {"run", run},
+              {"relative_residual", residual},
+              {"estimation_error", error},
+              {"diverged_at", diverged ? json(4) : json(nullptr)},
+              {"seconds_per_assembly", 2e-6 * static_cast<double>(run + 1)},
+              {"q_evaluations_per_assembly", 10.0}};
+}
+
+TEST(Summarize, MediansOverTheRunsThatDidNotDivergeAndCountsDivergences) {
+  const json groups = json::array(
+      {json{{"name", "g"}, {"config", json{{"controllers", {"default", "w=1", "baseline"}}}}}});
+  const std::vector<json> episodes{
+      summary_episode("w=1", 0, 0.3, 0.1, false),    summary_episode("w=1", 1, 0.1, 0.4, false),
+      summary_episode("w=1", 2, 0.2, 0.2, false),    summary_episode("w=1", 3, 9.0, 9.0, true),
+      summary_episode("default", 0, 0.5, 0.5, true), summary_episode("default", 1, 0.7, 0.6, false),
+      summary_episode("default", 2, 0.1, 0.2, false)};
+  const std::vector<SummaryRow> rows = summarize(groups, episodes);
+  ASSERT_EQ(rows.size(), 2U);  // baseline has no episodes
+  EXPECT_EQ(rows[0].controller, "default");
+  EXPECT_EQ(rows[0].runs, 3);
+  EXPECT_EQ(rows[0].divergences, 1);
+  EXPECT_DOUBLE_EQ(rows[0].median_relative_residual, 0.4);  // of 0.7 and 0.1
+  EXPECT_DOUBLE_EQ(rows[0].median_estimation_error, 0.4);
+  EXPECT_DOUBLE_EQ(rows[0].seconds_per_assembly, 4e-6);
+  EXPECT_EQ(rows[1].controller, "w=1");
+  EXPECT_EQ(rows[1].divergences, 1);
+  EXPECT_DOUBLE_EQ(rows[1].median_relative_residual, 0.2);
+  EXPECT_DOUBLE_EQ(rows[1].median_estimation_error, 0.2);
+  EXPECT_DOUBLE_EQ(rows[1].q_evaluations_per_assembly, 10.0);
+  const std::string table = format_summary(rows);
+  EXPECT_NE(table.find("w=1"), std::string::npos);
+}
+
+TEST(Summarize, AllRunsDivergedLeavesNoMedian) {
+  const json groups =
+      json::array({json{{"name", "g"}, {"config", json{{"controllers", {"default"}}}}}});
+  const std::vector<SummaryRow> rows =
+      summarize(groups, {summary_episode("default", 0, 1.0, 20.0, true)});
+  ASSERT_EQ(rows.size(), 1U);
+  EXPECT_TRUE(std::isnan(rows[0].median_relative_residual));
+  EXPECT_NE(format_summary(rows).find(" - "), std::string::npos);
+}
+
+}  // namespace
+}  // namespace twincal

@@ -1,0 +1,62 @@
+#include "twincal/experiments/sweep.hpp"
+
+#include <gtest/gtest.h>
+
+#include "twincal/core/error.hpp"
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+
+TEST(PaperStudy, IsEveryCaseTimesTheFourLocatorSets) {
+  const std::vector<TwinCase> cases{TwinCase::body, TwinCase::door};
+  const std::vector<ExperimentGroup> groups = paper_study(cases);
+  ASSERT_EQ(groups.size(), 8U);
+  EXPECT_EQ(groups[0].config.group_name(), "body/A");
+  EXPECT_EQ(groups[3].config.group_name(), "body/ABC");
+  EXPECT_EQ(groups[7].config.group_name(), "door/ABC");
+  EXPECT_EQ(groups[5].tags, (json{{"case", "door"}, {"locators", "B"}}));
+  EXPECT_EQ(groups[5].config.controllers.size(), 13U);
+  ExperimentConfig named;
+  named.name = "x";
+  EXPECT_THROW((void)paper_study(cases, named), InvalidArgumentError);
+}
+
+TEST(ExpandSweep, IsTheCartesianProductOfTheAxesLastFastest) {
+  const json sweep = json::parse(R"({
+    "base": {"case": "analytic", "locators": "ABC", "runs": 2},
+    "axes": {"filter": ["merwe", "cubature"], "w": [0.3, 1.0], "dimension": [3, 4]}})");
+  const std::vector<ExperimentGroup> groups = expand_sweep(sweep);
+  ASSERT_EQ(groups.size(), 8U);
+  // Axes in key order: dimension, filter, w.
+  EXPECT_EQ(groups[0].config.group_name(), "analytic/ABC/dimension=3 filter=merwe w=0.3");
+  EXPECT_EQ(groups[1].config.group_name(), "analytic/ABC/dimension=3 filter=merwe w=1.0");
+  EXPECT_EQ(groups[7].config.group_name(), "analytic/ABC/dimension=4 filter=cubature w=1.0");
+  EXPECT_EQ(groups[7].config.analytic_dimension, 4);
+  EXPECT_EQ(groups[7].config.filter, FilterScheme::cubature);
+  EXPECT_EQ(groups[1].config.controllers, std::vector{ControllerSpec::lookahead(1.0)});
+  EXPECT_EQ(groups[2].tags, (json{{"dimension", 3}, {"filter", "cubature"}, {"w", 0.3}}));
+  EXPECT_EQ(groups[2].config.runs, 2);
+}
+
+TEST(ExpandSweep, WithoutAxesIsTheBaseAlone) {
+  const std::vector<ExperimentGroup> groups =
+      expand_sweep(json::parse(R"({"base": {"case": "analytic", "name": "only"}})"));
+  ASSERT_EQ(groups.size(), 1U);
+  EXPECT_EQ(groups[0].config.group_name(), "only");
+}
+
+TEST(ExpandSweep, RejectsMalformedSweeps) {
+  EXPECT_THROW((void)expand_sweep(json::parse(R"({"axes": {}})")), InvalidArgumentError);
+  EXPECT_THROW((void)expand_sweep(json::parse(R"({"base": {}, "axes": {"w": []}})")),
+               InvalidArgumentError);
+  EXPECT_THROW((void)expand_sweep(json::parse(R"({"base": {}, "axis": {}})")),
+               InvalidArgumentError);
+  EXPECT_THROW((void)expand_sweep(json::parse(R"({"base": {"runs": 0}})")), InvalidArgumentError);
+  EXPECT_THROW((void)expand_sweep(json::parse(R"({"base": {}, "axes": {"w": [2.0]}})")),
+               InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace twincal
