@@ -29,6 +29,7 @@
 #include "twincal/experiments/episode_result.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/filters/sigma_point_filter.hpp"
+#include "twincal/filters/sigma_point_scheme.hpp"
 #include "twincal/models/bouncing_drift.hpp"
 #include "twincal/models/quality_feedback.hpp"
 #include "twincal/models/random_walk.hpp"
@@ -141,7 +142,7 @@ inline AnyExplorationLoss make_exploration_loss(ExplorationKind kind, const Case
 }
 
 /// The default controller or a w-controller with a `Scheme` filter of dimension N.
-template <int N, typename Scheme>
+template <int N, SigmaPointScheme Scheme>
 void run_filtered(const EpisodeSetup& setup, const ControllerSpec& spec, const Scheme& scheme,
                   EpisodeResult& result) {
   using Filter = SigmaPointFilter<RandomWalk<N>, QualityFeedback<CaseTwin, N>, Scheme>;
