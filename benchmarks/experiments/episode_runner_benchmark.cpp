@@ -3,6 +3,7 @@
 #include <string>
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include "twincal/experiments/episode_runner.hpp"
 #include "twincal/experiments/twin_cases.hpp"
