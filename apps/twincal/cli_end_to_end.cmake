@@ -1,7 +1,7 @@
 # End-to-end test of the twincal CLI (ctest apps.cli_end_to_end): a tiny study, an interrupted
 # run resumed, a rerun that skips everything, another thread count, a conflicting config, the
-# summary and every --help. Results are compared without their wall-time columns.
-#   cmake -DTWINCAL=<twincal> -DWORK_DIR=<scratch> -P cli_end_to_end.cmake
+# summary, every --help, and a dry run of every ready-made sweep in apps/sweeps/. Results are compared without their wall-time columns.
+#   cmake -DTWINCAL=<twincal> -DWORK_DIR=<scratch> -DSWEEPS_DIR=<apps/sweeps> -P cli_end_to_end.cmake
 
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
@@ -91,5 +91,17 @@ foreach(command run paper sweep plot summary)
   twincal_ok(${command} --help)
   if(NOT output MATCHES "usage: twincal ${command}")
     message(FATAL_ERROR "twincal ${command} --help printed:\n${output}")
+  endif()
+endforeach()
+
+# 7. The ready-made sweeps are valid (configs, locator sets) and not empty.
+file(GLOB sweeps "${SWEEPS_DIR}/*.json")
+if(NOT sweeps)
+  message(FATAL_ERROR "no sweeps in ${SWEEPS_DIR}")
+endif()
+foreach(sweep IN LISTS sweeps)
+  twincal_ok(sweep --config "${sweep}" --dry-run)
+  if(NOT output MATCHES "[1-9][0-9]* groups, [1-9][0-9]* episodes")
+    message(FATAL_ERROR "dry run of ${sweep} printed:\n${output}")
   endif()
 endforeach()

@@ -11,10 +11,12 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "arguments.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
 #include "twincal/experiments/result_store.hpp"
@@ -47,6 +49,7 @@ constexpr const char* execution_help =
     R"(  --out DIR              results directory (created; rerunning resumes it)
   --threads N            worker threads (default: all cores)
   --quiet                no progress line
+  --dry-run              list the groups and episodes, run nothing
 )";
 
 json read_json_file(const std::string& path) {
@@ -100,9 +103,27 @@ RunOptions read_run_options(Arguments& arguments) {
   return options;
 }
 
+// Lists the groups and their episodes after checking each config and locator set.
+int list_study(const std::vector<ExperimentGroup>& groups) {
+  Index episodes = 0;
+  for (const ExperimentGroup& group : groups) {
+    const ExperimentConfig& config = group.config;
+    require_valid(fmt::format("group \"{}\"", config.group_name()), config);
+    const CaseTwin twin = make_case_twin(config);
+    const Index count = config.runs * std::ssize(config.controllers);
+    episodes += count;
+    fmt::print("{}: locators [{}], {} runs x {} controllers = {} episodes of {} assemblies\n",
+               config.group_name(), fmt::join(twin.locator_names(), ", "), config.runs,
+               config.controllers.size(), count, config.assemblies);
+  }
+  fmt::print("{} groups, {} episodes\n", groups.size(), episodes);
+  return 0;
+}
+
 // Runs the groups into `out`, then prints what was done and the summary of these groups.
 int run_study(const std::vector<ExperimentGroup>& groups, const fs::path& out,
-              const RunOptions& options) {
+              const RunOptions& options, bool dry_run) {
+  if (dry_run) return list_study(groups);
   ResultStore store(out);
   const RunReport report = run_experiments(groups, store, options);
   const Index threads =
@@ -128,7 +149,7 @@ bool wants_help(Arguments& arguments, const char* help) {
   return true;
 }
 
-const std::set<std::string, std::less<>> common_flags{"help", "quiet"};
+const std::set<std::string, std::less<>> common_flags{"help", "quiet", "dry-run"};
 
 }  // namespace
 
@@ -151,10 +172,11 @@ Runs one configuration: one twin case and locator set, its controllers, N runs.
   if (const auto v = arguments.text("name")) config.name = *v;
   const fs::path out = arguments.text("out").value_or("results");
   const RunOptions options = read_run_options(arguments);
+  const bool dry_run = arguments.flag("dry-run");
   arguments.require_all_read();
   return run_study({ExperimentGroup{config, json{{"case", to_string(config.twin_case)},
                                                  {"locators", config.locators}}}},
-                   out, options);
+                   out, options, dry_run);
 }
 
 int paper_command(std::span<const std::string> args) {
@@ -181,8 +203,9 @@ Table 1.
   }
   const fs::path out = arguments.text("out").value_or("results/paper");
   const RunOptions options = read_run_options(arguments);
+  const bool dry_run = arguments.flag("dry-run");
   arguments.require_all_read();
-  return run_study(paper_study(cases, base), out, options);
+  return run_study(paper_study(cases, base), out, options, dry_run);
 }
 
 int sweep_command(std::span<const std::string> args) {
@@ -198,6 +221,7 @@ group "<base>/<key>=<value> ..." tagged with its axis values.
   --out DIR              results directory (default results/sweep; rerunning resumes it)
   --threads N            worker threads (default: all cores)
   --quiet                no progress line
+  --dry-run              list the groups and episodes, run nothing
 )";
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help)) return 0;
@@ -205,8 +229,9 @@ group "<base>/<key>=<value> ..." tagged with its axis values.
   if (!path) throw InvalidArgumentError("config", "--config: is missing; rule: sweep needs one");
   const fs::path out = arguments.text("out").value_or("results/sweep");
   const RunOptions options = read_run_options(arguments);
+  const bool dry_run = arguments.flag("dry-run");
   arguments.require_all_read();
-  return run_study(expand_sweep(read_json_file(*path)), out, options);
+  return run_study(expand_sweep(read_json_file(*path)), out, options, dry_run);
 }
 
 int summary_command(std::span<const std::string> args) {
