@@ -37,9 +37,9 @@ const char* part_name(SheetMetalPart part) {
 std::vector<Vector<2>> staggered_welds(double x_first, double x_last, double pitch, double y_a,
                                        double y_b) {
   std::vector<Vector<2>> welds;
-  int k = 0;
-  for (double x = x_first; x <= x_last + 1e-9; x += pitch, ++k) {
-    welds.emplace_back(x, k % 2 == 0 ? y_a : y_b);
+  const auto count = static_cast<int>(std::floor((x_last - x_first) / pitch + 1e-9)) + 1;
+  for (int k = 0; k < count; ++k) {
+    welds.emplace_back(x_first + k * pitch, k % 2 == 0 ? y_a : y_b);
   }
   return welds;
 }

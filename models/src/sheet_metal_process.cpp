@@ -33,7 +33,7 @@ SparseMatrix block_diagonal(const SparseMatrix& a, const SparseMatrix& b) {
   return m;
 }
 
-const SheetMetalLayout& validated(const SheetMetalLayout& layout) {
+SheetMetalLayout validated(SheetMetalLayout layout) {
   require_valid("layout", layout);
   return layout;
 }
@@ -66,7 +66,7 @@ std::vector<Index> tied_components(WeldTie tie) {
 }  // namespace
 
 SheetMetalProcess::SheetMetalProcess(SheetMetalLayout layout, const PlateSection& section)
-    : layout_(std::move(validated(layout))),
+    : layout_(validated(std::move(layout))),
       upper_(layout_.mesh(SheetMetalPart::upper), section),
       lower_(layout_.mesh(SheetMetalPart::lower), section),
       stiffness_(block_diagonal(upper_.stiffness(), lower_.stiffness())),
@@ -76,46 +76,40 @@ SheetMetalProcess::SheetMetalProcess(SheetMetalLayout layout, const PlateSection
       upper_weld_nodes_(weld_nodes_of(layout_.welds, upper_.mesh())),
       lower_weld_nodes_(weld_nodes_of(layout_.welds, lower_.mesh())),
       tied_components_(tied_components(layout_.weld_tie)),
-      weld_stage_(
-          stiffness_,
-          [&] {
-            // Order: locators (d), then one gap closure per weld.
-            std::vector<LinearConstraint> c;
-            for (std::size_t k = 0; k < locator_nodes_.size(); ++k) {
-              c.push_back(
-                  {global_dof(layout_.locators[k].part, PlateMesh::dof(locator_nodes_[k], 0))});
-            }
-            for (std::size_t j = 0; j < upper_weld_nodes_.size(); ++j) {
-              c.push_back(
-                  {global_dof(SheetMetalPart::upper, PlateMesh::dof(upper_weld_nodes_[j], 0)),
-                   global_dof(SheetMetalPart::lower, PlateMesh::dof(lower_weld_nodes_[j], 0))});
-            }
-            return c;
-          }()),
-      release_stage_(stiffness_, [&] {
-        // Order: weld ties (components per weld), then the final supports.
-        std::vector<LinearConstraint> c;
-        for (std::size_t j = 0; j < upper_weld_nodes_.size(); ++j) {
-          for (const Index component : tied_components_) {
-            c.push_back(
-                {global_dof(SheetMetalPart::upper, PlateMesh::dof(upper_weld_nodes_[j], component)),
-                 global_dof(SheetMetalPart::lower,
-                            PlateMesh::dof(lower_weld_nodes_[j], component))});
-          }
-        }
-        if (layout_.final_support == FinalSupport::adjusted_locators) {
-          for (std::size_t k = 0; k < locator_nodes_.size(); ++k) {
-            c.push_back(
-                {global_dof(layout_.locators[k].part, PlateMesh::dof(locator_nodes_[k], 0))});
-          }
-        } else {
-          for (std::size_t s = 0; s < support_nodes_.size(); ++s) {
-            c.push_back(
-                {global_dof(layout_.supports[s].part, PlateMesh::dof(support_nodes_[s], 0))});
-          }
-        }
-        return c;
-      }()) {}
+      weld_stage_(stiffness_, weld_constraints()),
+      release_stage_(stiffness_, release_constraints()) {}
+
+std::vector<LinearConstraint> SheetMetalProcess::weld_constraints() const {
+  // Order: locators (d), then one gap closure per weld (upper w tied to lower w).
+  std::vector<LinearConstraint> c;
+  for (std::size_t k = 0; k < locator_nodes_.size(); ++k) {
+    c.push_back({global_dof(layout_.locators[k].part, PlateMesh::dof(locator_nodes_[k], 0))});
+  }
+  for (std::size_t j = 0; j < upper_weld_nodes_.size(); ++j) {
+    c.push_back({global_dof(SheetMetalPart::upper, PlateMesh::dof(upper_weld_nodes_[j], 0)),
+                 global_dof(SheetMetalPart::lower, PlateMesh::dof(lower_weld_nodes_[j], 0))});
+  }
+  return c;
+}
+
+std::vector<LinearConstraint> SheetMetalProcess::release_constraints() const {
+  // Order: weld ties (the tied components of each weld), then the final supports.
+  std::vector<LinearConstraint> c;
+  for (std::size_t j = 0; j < upper_weld_nodes_.size(); ++j) {
+    for (const Index component : tied_components_) {
+      c.push_back(
+          {global_dof(SheetMetalPart::upper, PlateMesh::dof(upper_weld_nodes_[j], component)),
+           global_dof(SheetMetalPart::lower, PlateMesh::dof(lower_weld_nodes_[j], component))});
+    }
+  }
+  const bool on_locators = layout_.final_support == FinalSupport::adjusted_locators;
+  const std::vector<LayoutPoint>& points = on_locators ? layout_.locators : layout_.supports;
+  const std::vector<Index>& nodes = on_locators ? locator_nodes_ : support_nodes_;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    c.push_back({global_dof(points[k].part, PlateMesh::dof(nodes[k], 0))});
+  }
+  return c;
+}
 
 void SheetMetalProcess::require_inputs(const Eigen::Ref<const VectorX>& upper_free,
                                        const Eigen::Ref<const VectorX>& lower_free,

@@ -85,6 +85,10 @@ class SheetMetalProcess {
   [[nodiscard]] MatrixX control_influence() const;
 
  private:
+  // The constraints of stage 2 (locators, gap closures) and stage 3 (weld ties, final supports),
+  // in the order their values are filled in welded_state / released_state.
+  [[nodiscard]] std::vector<LinearConstraint> weld_constraints() const;
+  [[nodiscard]] std::vector<LinearConstraint> release_constraints() const;
   void require_inputs(const Eigen::Ref<const VectorX>& upper_free,
                       const Eigen::Ref<const VectorX>& lower_free,
                       const Eigen::Ref<const VectorX>& control) const;
