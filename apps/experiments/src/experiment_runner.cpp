@@ -24,11 +24,6 @@
 
 namespace twincal {
 
-std::optional<std::string> RunOptions::validate() const {
-  if (threads < 0) return fmt::format("threads is {}; rule: must be >= 0 (0: all cores)", threads);
-  return std::nullopt;
-}
-
 namespace {
 
 struct Task {

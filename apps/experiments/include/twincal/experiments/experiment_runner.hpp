@@ -14,24 +14,10 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/experiment_group.hpp"
 #include "twincal/experiments/result_store.hpp"
+#include "twincal/experiments/run_options.hpp"
+#include "twincal/experiments/run_report.hpp"
 
 namespace twincal {
-
-struct RunOptions {
-  /// Worker threads; 0: all cores (std::thread::hardware_concurrency).
-  Index threads = 0;
-  /// Show the progress line (when standard error is a terminal).
-  bool progress = true;
-
-  [[nodiscard]] std::optional<std::string> validate() const;
-};
-
-struct RunReport {
-  Index planned = 0;    ///< episodes in the study
-  Index skipped = 0;    ///< already in the results
-  Index completed = 0;  ///< run now
-  double seconds = 0.0;
-};
 
 /// Runs the missing episodes of `groups` into `store` and rewrites its summary.json.
 /// @throws InvalidArgumentError (a config, a group that conflicts with the stored one, two
