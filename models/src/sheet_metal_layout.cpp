@@ -170,6 +170,16 @@ std::optional<std::string> SheetMetalLayout::validate() const {
           j, welds[j](0), welds[j](1));
     }
   }
+  for (const LayoutPoint& p : locators) {
+    for (const Vector<2>& w : welds) {
+      if (std::abs(p.x - w(0)) < 1e-6 && std::abs(p.y - w(1)) < 1e-6) {
+        return fmt::format(
+            "locators: {} sits on the weld at ({}, {}) mm; rule: a locator and a "
+            "weld cannot share a node (the gun and the clamp would fight)",
+            p.name, w(0), w(1));
+      }
+    }
+  }
   if (key_points.empty()) return "key_points: is empty; rule: needs at least one key point";
   for (const auto* list : {&locators, &key_points, &supports}) {
     for (const LayoutPoint& p : *list) {

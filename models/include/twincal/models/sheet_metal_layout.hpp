@@ -72,8 +72,8 @@ struct SheetMetalLayout {
 
   /// Consistency: positive sizes, outlines that are whole numbers of elements on a shared grid,
   /// at least three locators per part and non-empty welds and key points, all points on their
-  /// parts, welds in the overlap, at least three supports for a nominal frame, unique locator
-  /// names.
+  /// parts, welds in the overlap and not on a locator, at least three supports for a nominal frame,
+  /// unique locator names.
   [[nodiscard]] std::optional<std::string> validate() const;
 
   /// The layout as JSON (outlines, element size, locators, welds, key points, supports, the two
