@@ -40,7 +40,9 @@ VectorX bounded_least_squares(const MatrixX& b, const VectorX& y0, const VectorX
   VectorX u = VectorX::Zero(d);
   std::vector<int> state(static_cast<std::size_t>(d), 0);  // 0 free, −1 at lower, +1 at upper
   const auto at = [&](Index k) -> int& { return state[static_cast<std::size_t>(k)]; };
-  for (Index iteration = 0; iteration < 10 * d + 10; ++iteration) {
+  // Each pass fixes or frees one variable; a few passes per variable suffice in practice.
+  const Index passes = 50 * d + 50;
+  for (Index iteration = 0; iteration < passes; ++iteration) {
     std::vector<Index> free;
     for (Index k = 0; k < d; ++k) {
       if (at(k) == 0) free.push_back(k);
@@ -92,7 +94,9 @@ VectorX bounded_least_squares(const MatrixX& b, const VectorX& y0, const VectorX
     if (release < 0) return u;
     at(release) = 0;
   }
-  return u;
+  throw Error("optimum", fmt::format("optimum: the box-constrained least squares did not converge "
+                                     "in {} active-set passes; rule: must reach the KKT conditions",
+                                     passes));
 }
 
 }  // namespace
@@ -115,11 +119,13 @@ SheetMetalTwin::SheetMetalTwin(SheetMetalLayout layout, const SheetMetalTwinOpti
     : options_(options),
       upper_parts_(std::move(upper_parts)),
       lower_parts_(std::move(lower_parts)) {
+  // Cheap checks first, before meshing and factorizing.
   require_valid("options", options);
+  require_valid("layout", layout);
+  require_parts("upper_parts", upper_parts_, layout.mesh(SheetMetalPart::upper).dof_count());
+  require_parts("lower_parts", lower_parts_, layout.mesh(SheetMetalPart::lower).dof_count());
   process_ = std::make_shared<const SheetMetalProcess>(std::move(layout), options.section);
   const SheetMetalProcess& process = *process_;
-  require_parts("upper_parts", upper_parts_, process.dof_count(SheetMetalPart::upper));
-  require_parts("lower_parts", lower_parts_, process.dof_count(SheetMetalPart::lower));
 
   const Index d = process.control_dimension();
   const Index m = process.key_point_count();

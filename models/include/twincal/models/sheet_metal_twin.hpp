@@ -56,7 +56,8 @@ class SheetMetalTwin {
   /// A twin over given parts (e.g. scans read with `PartDeviationFile`): `upper_parts[i]` and
   /// `lower_parts[j]` are nodal free shapes (w, θx, θy) on the layout's upper and lower meshes.
   /// @throws InvalidArgumentError for invalid options or layout, empty part lists;
-  ///         DimensionMismatchError for parts of the wrong size; NonFiniteError for NaN parts.
+  ///         DimensionMismatchError for parts of the wrong size; NonFiniteError for NaN parts;
+  ///         Error("optimum") if the active-set optimum fails to converge (never observed).
   SheetMetalTwin(SheetMetalLayout layout, const SheetMetalTwinOptions& options,
                  std::vector<VectorX> upper_parts, std::vector<VectorX> lower_parts);
 
