@@ -105,11 +105,14 @@ RunOptions read_run_options(Arguments& arguments) {
 
 // Lists the groups and their episodes after checking each config and locator set.
 int list_study(const std::vector<ExperimentGroup>& groups) {
-  Index episodes = 0;
   for (const ExperimentGroup& group : groups) {
-    const ExperimentConfig& config = group.config;
-    require_valid(fmt::format("group \"{}\"", config.group_name()), config);
-    const CaseTwin twin = make_case_twin(config);
+    require_valid(fmt::format("group \"{}\"", group.config.group_name()), group.config);
+  }
+  const std::vector<CaseTwin> twins = make_case_twins(groups);
+  Index episodes = 0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const ExperimentConfig& config = groups[g].config;
+    const CaseTwin& twin = twins[g];
     const Index count = config.runs * std::ssize(config.controllers);
     episodes += count;
     fmt::print("{}: locators [{}], {} runs x {} controllers = {} episodes of {} assemblies\n",

@@ -60,5 +60,20 @@ TEST(TwinCases, SheetMetalCasesAreTheFemTwinWhenItIsBuilt) {
   EXPECT_EQ(make_case_twin(config).full_twin().control_dimension(), 12);
 }
 
+TEST(TwinCases, GroupsOfOneTwinShareIt) {
+  std::vector<ExperimentGroup> groups(3);
+  groups[0].config = twin_cases_analytic(3);
+  groups[1].config = twin_cases_analytic(3);
+  groups[1].config.locators = "ABC";
+  groups[2].config = twin_cases_analytic(4);
+  const std::vector<CaseTwin> twins = make_case_twins(groups);
+  ASSERT_EQ(twins.size(), 3U);
+  EXPECT_EQ(twins[0].locators(), (std::vector<Index>{0}));
+  EXPECT_EQ(twins[1].locators(), (std::vector<Index>{0, 1, 2}));
+  EXPECT_EQ(&twins[0].full_twin().locator_names(), &twins[1].full_twin().locator_names());
+  EXPECT_NE(&twins[0].full_twin().locator_names(), &twins[2].full_twin().locator_names());
+  EXPECT_EQ(twins[2].full_twin().control_dimension(), 4);
+}
+
 }  // namespace
 }  // namespace twincal

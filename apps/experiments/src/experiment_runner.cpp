@@ -5,13 +5,11 @@
 #include <atomic>
 #include <cstdio>
 #include <exception>
-#include <map>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <string>
 #include <thread>
-#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -66,9 +64,6 @@ RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& 
   require_valid("RunOptions", options);
   Stopwatch watch;
   std::set<std::string> names;
-  std::vector<CaseTwin> twins;
-  twins.reserve(groups.size());
-  std::map<std::tuple<TwinCase, std::uint64_t, Index>, AnyTwin> full_twins;
   for (const ExperimentGroup& group : groups) {
     require_valid("config", group.config);
     const std::string name = group.config.group_name();
@@ -77,21 +72,17 @@ RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& 
           "groups",
           fmt::format("groups: \"{}\" appears twice; rule: group names are unique", name));
     }
-    // One full twin per (case, twin seed, dimension), shared by the groups that restrict it
-    // (building an FEM twin costs more than a whole group's episodes); u0(x), z*(x) once per
-    // group for all its episodes.
-    const auto key = std::tuple(
-        group.config.twin_case, group.config.twin_seed,
-        group.config.twin_case == TwinCase::analytic ? group.config.analytic_dimension : Index{0});
-    auto full = full_twins.find(key);
-    if (full == full_twins.end()) full = full_twins.emplace(key, make_twin(group.config)).first;
-    twins.emplace_back(full->second, resolve_locators(full->second, group.config.locators));
-    if (group.config.assemblies > std::ssize(twins.back().assemblies())) {
+  }
+  // u0(x), z*(x) once per group for all its episodes.
+  const std::vector<CaseTwin> twins = make_case_twins(groups);
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const ExperimentConfig& config = groups[g].config;
+    if (config.assemblies > std::ssize(twins[g].assemblies())) {
       throw InvalidArgumentError(
           "assemblies",
           fmt::format("assemblies: is {} in group \"{}\"; rule: must be <= the twin's {} "
                       "assemblies",
-                      group.config.assemblies, name, twins.back().assemblies().size()));
+                      config.assemblies, config.group_name(), twins[g].assemblies().size()));
     }
   }
   for (std::size_t g = 0; g < groups.size(); ++g) store.add_group(groups[g], twins[g]);

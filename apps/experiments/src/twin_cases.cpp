@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <map>
 #include <string>
 #include <system_error>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -118,6 +120,22 @@ CaseTwin make_case_twin(const ExperimentConfig& config) {
   AnyTwin twin = make_twin(config);
   std::vector<Index> locators = resolve_locators(twin, config.locators);
   return {std::move(twin), std::move(locators)};
+}
+
+std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups) {
+  std::map<std::tuple<TwinCase, std::uint64_t, Index>, AnyTwin> full_twins;
+  std::vector<CaseTwin> twins;
+  twins.reserve(groups.size());
+  for (const ExperimentGroup& group : groups) {
+    const ExperimentConfig& config = group.config;
+    const auto key =
+        std::tuple(config.twin_case, config.twin_seed,
+                   config.twin_case == TwinCase::analytic ? config.analytic_dimension : Index{0});
+    auto full = full_twins.find(key);
+    if (full == full_twins.end()) full = full_twins.emplace(key, make_twin(config)).first;
+    twins.emplace_back(full->second, resolve_locators(full->second, config.locators));
+  }
+  return twins;
 }
 
 }  // namespace twincal

@@ -6,6 +6,7 @@
 /// restricts it to the configured locator set. This file is the one place where case names meet
 /// twin types.
 
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "twincal/experiments/any_twin.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/experiment_config.hpp"
+#include "twincal/experiments/experiment_group.hpp"
 
 namespace twincal {
 
@@ -30,5 +32,10 @@ namespace twincal {
 
 /// make_twin restricted to resolve_locators(config.locators).
 [[nodiscard]] CaseTwin make_case_twin(const ExperimentConfig& config);
+
+/// make_case_twin for every group, building one full twin per (case, twin seed, analytic
+/// dimension) and sharing it among the groups that restrict it: an FEM twin costs more to build
+/// than a whole group's episodes.
+[[nodiscard]] std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups);
 
 }  // namespace twincal
