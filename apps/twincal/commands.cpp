@@ -154,6 +154,16 @@ bool wants_help(Arguments& arguments, const char* help) {
 
 const std::set<std::string, std::less<>> common_flags{"help", "quiet", "dry-run"};
 
+// --results must name a directory written by run, paper or sweep.
+void require_results_directory(const std::optional<std::string>& results) {
+  if (!results || !fs::exists(fs::path(*results) / ResultStore::summary_name)) {
+    throw InvalidArgumentError("results",
+                               fmt::format("--results: \"{}\" holds no {}; rule: must "
+                                           "be a results directory",
+                                           results.value_or(""), ResultStore::summary_name));
+  }
+}
+
 }  // namespace
 
 int run_command(std::span<const std::string> args) {
@@ -248,12 +258,7 @@ of the mean estimation error |du^ - du*|, and the mean time (µs) and Q-evaluati
   if (wants_help(arguments, help)) return 0;
   const std::optional<std::string> results = arguments.text("results");
   arguments.require_all_read();
-  if (!results || !fs::exists(fs::path(*results) / ResultStore::summary_name)) {
-    throw InvalidArgumentError("results",
-                               fmt::format("--results: \"{}\" holds no {}; rule: must "
-                                           "be a results directory",
-                                           results.value_or(""), ResultStore::summary_name));
-  }
+  require_results_directory(results);
   ResultStore store(*results);
   store.write_summary();  // brings summary.json up to date after an interrupted run
   fmt::print("{}", format_summary(summarize(store.groups(), store.episodes())));
@@ -335,12 +340,7 @@ matplotlib); the script is $TWINCAL_PLOT_SCRIPT, else the installed or the sourc
   const std::optional<std::string> results = arguments.text("results");
   const std::optional<std::string> out = arguments.text("out");
   arguments.require_all_read();
-  if (!results || !fs::exists(fs::path(*results) / ResultStore::summary_name)) {
-    throw InvalidArgumentError("results",
-                               fmt::format("--results: \"{}\" holds no {}; rule: must "
-                                           "be a results directory",
-                                           results.value_or(""), ResultStore::summary_name));
-  }
+  require_results_directory(results);
   {
     ResultStore store(*results);
     store.write_summary();

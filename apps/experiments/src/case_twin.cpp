@@ -7,6 +7,7 @@
 
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/models/locator_subset.hpp"
 
 namespace twincal {
 namespace {
@@ -27,23 +28,7 @@ Eigen::Block<MatrixX, Dynamic, Dynamic, true> full_controls(Index rows, Index co
 CaseTwin::CaseTwin(AnyTwin twin, std::vector<Index> locators)
     : twin_(std::move(twin)), locators_(std::move(locators)) {
   const Index d = twin_.control_dimension();
-  if (locators_.empty()) {
-    throw InvalidArgumentError("locators", "locators: is empty; rule: must name >= 1 locator");
-  }
-  for (std::size_t i = 0; i < locators_.size(); ++i) {
-    const Index k = locators_[i];
-    if (k < 0 || k >= d) {
-      throw InvalidArgumentError(
-          "locators",
-          fmt::format("locators: entry {} is {}; rule: must lie in [0, {}]", i, k, d - 1));
-    }
-    if (std::count(locators_.begin(), locators_.end(), k) > 1) {
-      throw InvalidArgumentError(
-          "locators", fmt::format("locators: locator {} appears more than once; rule: each "
-                                  "locator at most once",
-                                  k));
-    }
-  }
+  require_locator_indices(locators_, d);
   const std::vector<AssemblyId>& all = twin_.assemblies();
   if (all.empty()) {
     throw InvalidArgumentError("twin.assemblies()",

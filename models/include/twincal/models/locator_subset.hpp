@@ -24,6 +24,30 @@
 
 namespace twincal {
 
+/// Checks a choice of locators of a twin with `dimension` locators: not empty, each index in
+/// [0, dimension), none repeated.
+/// @throws InvalidArgumentError naming the offending entry and the rule.
+inline void require_locator_indices(std::span<const Index> locators, Index dimension) {
+  if (locators.empty()) {
+    throw InvalidArgumentError("locators", "locators: is empty; rule: must name >= 1 locator");
+  }
+  for (std::size_t i = 0; i < locators.size(); ++i) {
+    const Index k = locators[i];
+    if (k < 0 || k >= dimension) {
+      throw InvalidArgumentError(
+          "locators",
+          fmt::format("locators: entry {} is {}; rule: must lie in [0, {}]", i, k, dimension - 1));
+    }
+    if (std::find(locators.begin(), locators.begin() + static_cast<std::ptrdiff_t>(i), k) !=
+        locators.begin() + static_cast<std::ptrdiff_t>(i)) {
+      throw InvalidArgumentError(
+          "locators",
+          fmt::format("locators: entry {} repeats locator {}; rule: each locator at most once", i,
+                      k));
+    }
+  }
+}
+
 template <TwinWithOptimum T>
 class LocatorSubset {
  public:
@@ -34,25 +58,7 @@ class LocatorSubset {
   ///         outside [0, d).
   LocatorSubset(const T& twin, std::vector<Index> locators)
       : twin_(&twin), locators_(std::move(locators)) {
-    const Index d = twin.control_dimension();
-    if (locators_.empty()) {
-      throw InvalidArgumentError("locators", "locators: is empty; rule: must name >= 1 locator");
-    }
-    for (std::size_t i = 0; i < locators_.size(); ++i) {
-      const Index k = locators_[i];
-      if (k < 0 || k >= d) {
-        throw InvalidArgumentError(
-            "locators",
-            fmt::format("locators: entry {} is {}; rule: must lie in [0, {}]", i, k, d - 1));
-      }
-      if (std::find(locators_.begin(), locators_.begin() + static_cast<std::ptrdiff_t>(i), k) !=
-          locators_.begin() + static_cast<std::ptrdiff_t>(i)) {
-        throw InvalidArgumentError(
-            "locators",
-            fmt::format("locators: entry {} repeats locator {}; rule: each locator at most once", i,
-                        k));
-      }
-    }
+    require_locator_indices(locators_, twin.control_dimension());
     const auto& names = twin.locator_names();
     lower_bounds_.resize(size());
     upper_bounds_.resize(size());
