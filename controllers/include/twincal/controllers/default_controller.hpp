@@ -38,7 +38,7 @@ class DefaultController {
     const IndividualControl u0 = optimum_(assembly);
     filter_.predict();
     ControlVector control = u0.control + filter_.state();
-    report_ = ProposalReport{};
+    report_.reset();
     report_.individual_control = u0.control;
     report_.optimal_quality = u0.quality;
     report_.optimizer_evaluations = u0.evaluations;

@@ -83,7 +83,7 @@ class LookaheadController {
     const IndividualControl u0 = optimum_(assembly);
     filter_.predict();
     pending_.reset();
-    report_ = ProposalReport{};
+    report_.reset();
     report_.individual_control = u0.control;
     report_.optimal_quality = u0.quality;
     report_.optimizer_evaluations = u0.evaluations;

@@ -31,6 +31,29 @@ struct ProposalReport {
   std::string fallback;  ///< why the default control was used instead (empty: it was not)
 
   [[nodiscard]] bool fell_back() const noexcept { return !fallback.empty(); }
+
+  /// Back to a fresh report, keeping the vectors' and the string's storage: a controller resets
+  /// its report every assembly, and same-size assignments afterwards then allocate nothing.
+  void reset() noexcept {
+    const auto keep = [](VectorX& v) noexcept {
+      v.setConstant(std::numeric_limits<double>::quiet_NaN());
+    };
+    keep(individual_control);
+    keep(default_control);
+    keep(control);
+    optimal_quality = 0.0;
+    candidates_requested = 0;
+    candidates_drawn = 0;
+    candidates_survived = 0;
+    candidates_scored = 0;
+    chosen = -1;
+    exploitation = std::numeric_limits<double>::quiet_NaN();
+    exploration = std::numeric_limits<double>::quiet_NaN();
+    loss = std::numeric_limits<double>::quiet_NaN();
+    quality_evaluations = 0;
+    optimizer_evaluations = 0;
+    fallback.clear();
+  }
 };
 
 }  // namespace twincal
