@@ -1,11 +1,18 @@
 #!/usr/bin/env bash
-# The main job: install what is missing, build, run the demo of the framework: one episode of the
-# paper's protocol on an analytic twin for the baseline, default and w-controllers and three
-# one-policy ablations (examples/ablation.cpp).
-#   ./scripts/run.sh [seed] [w]
+# The main job: install what is missing, build, and run the paper's study on the open FEM twin —
+# both cases ('body', 'door') × locator sets A, B, C, ABC × baseline, default and the eleven
+# w-controllers × 10 seeded runs of 100 assemblies — then draw its figures and print the summary.
+#   ./scripts/run.sh [results-dir] [twincal paper options, e.g. --runs 3 --seed 7]
+# Results (CSV, JSON) and figures (PNG, SVG, Table 1) go to results-dir (default results/paper);
+# rerunning resumes: finished episodes are kept, not recomputed.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
+out="${1:-$TWINCAL_ROOT/results/paper}"
+[ $# -gt 0 ] && shift
+
 twincal_install_dependencies
 twincal_build "$TWINCAL_ROOT/build" -DCMAKE_BUILD_TYPE=Release
-"$TWINCAL_ROOT/build/examples/ablation" "$@"
+cli="$TWINCAL_ROOT/build/apps/twincal/twincal"
+"$cli" paper --out "$out" "$@"
+"$cli" plot --results "$out" --out "$out/figures"

@@ -142,7 +142,7 @@ def table1(groups, episodes, out):
                     writer.writerow([name, case, d, mean([v[0] for v in values]),
                                      mean([v[1] for v in values])])
     lines = ["Mean wall time (µs) / Q-evaluations per assembly, to propose u_t and update δû_t "
-             "and P_t (the paper's Table 1 gives seconds for its Python FEM twin).", "",
+             "and P_t (the paper's Table 1 gives seconds, with the RD&T FEM software as the twin).", "",
              "| controllers | " + " | ".join(f"{c}, {d} locator{'s' if d != 1 else ''}"
                                             for c, d in columns) + " |",
              "|---|" + "---|" * len(columns)]
