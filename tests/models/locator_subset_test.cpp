@@ -12,7 +12,7 @@ namespace twincal {
 namespace {
 
 // A 12-locator twin (the car body case has 12) in which A, B and C are three of the locators.
-RmsQuadraticTwin make_twin() {
+RmsQuadraticTwin make_subset_twin() {
   RmsQuadraticTwinOptions options;
   options.assemblies.dimension = 12;
   options.assemblies.locator_names = {"L1", "L2", "A",  "L4", "L5",  "B",
@@ -21,7 +21,7 @@ RmsQuadraticTwin make_twin() {
 }
 
 TEST(LocatorSubset, SelectsLocatorsByNameInTheGivenOrder) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_subset_twin();
   const std::array<std::string, 3> abc{"C", "A", "B"};
   const LocatorSubset subset = LocatorSubset<RmsQuadraticTwin>::by_name(twin, abc);
   EXPECT_THAT(subset.locators(), ::testing::ElementsAre(9, 2, 5));
@@ -32,7 +32,7 @@ TEST(LocatorSubset, SelectsLocatorsByNameInTheGivenOrder) {
 }
 
 TEST(LocatorSubset, HoldsTheOtherLocatorsAtTheirOptimum) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_subset_twin();
   const std::array<std::string, 3> abc{"A", "B", "C"};
   const LocatorSubset subset = LocatorSubset<RmsQuadraticTwin>::by_name(twin, abc);
   for (const AssemblyId& x : {AssemblyId{0, 0}, AssemblyId{4, 7}, AssemblyId{9, 2}}) {
@@ -54,7 +54,7 @@ TEST(LocatorSubset, HoldsTheOtherLocatorsAtTheirOptimum) {
 }
 
 TEST(LocatorSubset, SingleLocatorBatchMatchesSingleEvaluations) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_subset_twin();
   const LocatorSubset subset(twin, {5});
   EXPECT_THAT(subset.locator_names(), ::testing::ElementsAre("B"));
   const MatrixX controls = RowVector<Dynamic>::LinSpaced(7, -0.3, 0.3);
@@ -64,7 +64,7 @@ TEST(LocatorSubset, SingleLocatorBatchMatchesSingleEvaluations) {
 }
 
 TEST(LocatorSubset, RejectsBadSelections) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_subset_twin();
   const std::array<std::string, 2> unknown{"A", "D"};
   EXPECT_THAT([&] { (void)LocatorSubset<RmsQuadraticTwin>::by_name(twin, unknown); },
               ::testing::ThrowsMessage<InvalidArgumentError>(

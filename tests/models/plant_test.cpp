@@ -11,14 +11,14 @@
 namespace twincal {
 namespace {
 
-RmsQuadraticTwin make_twin() {
+RmsQuadraticTwin make_plant_twin() {
   RmsQuadraticTwinOptions options;
   options.assemblies.dimension = 2;
   return RmsQuadraticTwin::generate(options, RandomStream(31));
 }
 
 TEST(Plant, ProducesWithTheDriftingOffsetAndNoNoise) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_plant_twin();
   BouncingDrift<2> drift(Eigen::Vector2d(0.03, -0.02), Eigen::Vector2d(0.5, 0.5));
   Plant plant(twin, drift, 0.0, RandomStream(1));
   const AssemblyId x{2, 3};
@@ -36,7 +36,7 @@ TEST(Plant, ProducesWithTheDriftingOffsetAndNoNoise) {
 }
 
 TEST(Plant, AddsSeededGaussianNoise) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_plant_twin();
   const ConstantDrift<Dynamic> drift(VectorX::Constant(2, 0.05));
   Plant plant(twin, drift, 1e-4, RandomStream(7));
   Plant replay(twin, drift, 1e-4, RandomStream(7));
@@ -58,7 +58,7 @@ TEST(Plant, AddsSeededGaussianNoise) {
 }
 
 TEST(Plant, RejectsMismatchedDriftAndBadNoise) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_plant_twin();
   EXPECT_THAT(
       [&] { (void)Plant(twin, ConstantDrift<3>(Eigen::Vector3d::Zero()), 0.0, RandomStream(1)); },
       ::testing::ThrowsMessage<DimensionMismatchError>(

@@ -29,7 +29,7 @@ concept MeasurementModelShape = requires {
 
 constexpr Index kDimension = 3;
 
-RmsQuadraticTwin make_twin() {
+RmsQuadraticTwin make_feedback_twin() {
   RmsQuadraticTwinOptions options;
   options.assemblies.dimension = kDimension;
   return RmsQuadraticTwin::generate(options, RandomStream(2023));
@@ -47,7 +47,7 @@ class QualityFeedbackTest : public ::testing::Test {
   static constexpr int N = Model::dimension_at_compile_time;
   using State = Vector<N>;
 
-  RmsQuadraticTwin twin_ = make_twin();
+  RmsQuadraticTwin twin_ = make_feedback_twin();
   Evaluator<RmsQuadraticTwin> evaluator_{twin_};
 
   static State state(double a, double b, double c) {
@@ -168,7 +168,7 @@ TYPED_TEST(QualityFeedbackTest, RejectsBadArguments) {
 }
 
 TEST(QualityFeedback, DynamicModelRejectsMismatchedSizes) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_feedback_twin();
   const QualityFeedback<RmsQuadraticTwin> model(twin, 1e-6);
   const QualityFeedback<RmsQuadraticTwin>::Inputs inputs{AssemblyId{0, 0}, VectorX::Zero(3)};
   EXPECT_THAT(
@@ -181,7 +181,7 @@ TEST(QualityFeedback, DynamicModelRejectsMismatchedSizes) {
 }
 
 TEST(QualityFeedback, FixedDimensionMustMatchTheTwin) {
-  const RmsQuadraticTwin twin = make_twin();
+  const RmsQuadraticTwin twin = make_feedback_twin();
   EXPECT_THAT([&] { (void)(QualityFeedback<RmsQuadraticTwin, 2>(twin, 1e-6)); },
               ::testing::ThrowsMessage<DimensionMismatchError>(
                   "twin.control_dimension(): size is 3; rule: must equal 2"));
