@@ -103,6 +103,17 @@ Field plain(T ExperimentConfig::*member, std::string_view key) {
           [member, key](const json& v, ExperimentConfig& c) { c.*member = value_as<T>(v, key); }};
 }
 
+// A setting that may be unset (JSON null: the paper's default applies).
+template <typename T>
+Field optional(std::optional<T> ExperimentConfig::*member, std::string_view key) {
+  return {[member, key](json& j, const ExperimentConfig& c) {
+            j[std::string(key)] = c.*member ? json(*(c.*member)) : json(nullptr);
+          },
+          [member, key](const json& v, ExperimentConfig& c) {
+            c.*member = v.is_null() ? std::nullopt : std::optional<T>(value_as<T>(v, key));
+          }};
+}
+
 template <typename Enum>
 Field choice(Enum ExperimentConfig::*member, std::string_view key,
              Enum (*parse)(std::string_view, std::string_view)) {
@@ -161,26 +172,11 @@ const std::map<std::string, Field, std::less<>>& fields() {
     t["sampler"] = choice(&ExperimentConfig::sampler, "sampler", &parse_candidate_sampler);
     t["exploration"] =
         choice(&ExperimentConfig::exploration, "exploration", &parse_exploration_kind);
-    t["candidates"] = {[](json& j, const ExperimentConfig& c) {
-                         j["candidates"] = c.candidates ? json(*c.candidates) : json(nullptr);
-                       },
-                       [](const json& v, ExperimentConfig& c) {
-                         c.candidates = v.is_null()
-                                            ? std::nullopt
-                                            : std::optional(value_as<Index>(v, "candidates"));
-                       }};
+    t["candidates"] = optional(&ExperimentConfig::candidates, "candidates");
     t["keep_drawing"] = plain(&ExperimentConfig::keep_drawing, "keep_drawing");
     t["box_half_width"] = plain(&ExperimentConfig::box_half_width, "box_half_width");
-    t["measurement_variance"] = {
-        [](json& j, const ExperimentConfig& c) {
-          j["measurement_variance"] =
-              c.measurement_variance ? json(*c.measurement_variance) : json(nullptr);
-        },
-        [](const json& v, ExperimentConfig& c) {
-          c.measurement_variance = v.is_null()
-                                       ? std::nullopt
-                                       : std::optional(value_as<double>(v, "measurement_variance"));
-        }};
+    t["measurement_variance"] =
+        optional(&ExperimentConfig::measurement_variance, "measurement_variance");
     t["process_variance"] = plain(&ExperimentConfig::process_variance, "process_variance");
     t["initial_variance"] = plain(&ExperimentConfig::initial_variance, "initial_variance");
     t["plant_noise_variance"] =

@@ -35,12 +35,12 @@ struct ProposalReport {
   /// Back to a fresh report, keeping the vectors' and the string's storage: a controller resets
   /// its report every assembly, and same-size assignments afterwards then allocate nothing.
   void reset() noexcept {
-    const auto keep = [](VectorX& v) noexcept {
+    const auto invalidate = [](VectorX& v) noexcept {
       v.setConstant(std::numeric_limits<double>::quiet_NaN());
     };
-    keep(individual_control);
-    keep(default_control);
-    keep(control);
+    invalidate(individual_control);
+    invalidate(default_control);
+    invalidate(control);
     optimal_quality = 0.0;
     candidates_requested = 0;
     candidates_drawn = 0;
