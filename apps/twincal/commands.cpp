@@ -41,7 +41,8 @@ constexpr const char* config_options_help =
   --sampler NAME         sobol (default) | halton | random | latin_hypercube
   --exploration NAME     trace (default) | weighted_trace | log_det | max_eigenvalue
   --candidates N         candidates per assembly (default 2^(2+d))
-  --controllers LIST     comma-separated: baseline, nominal, default, w=<0..1>, or "paper"
+  --controllers LIST     comma-separated: baseline, nominal, default, w=<0..1>, active,
+                         or "paper"
                          (default paper: baseline, default, w=0, 0.1, ..., 1)
 )";
 

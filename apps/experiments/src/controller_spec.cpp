@@ -27,6 +27,8 @@ std::string ControllerSpec::label() const {
       return "default";
     case Kind::lookahead:
       return fmt::format("w={}", w);
+    case Kind::active:
+      return "active";
   }
   return "unknown";
 }
@@ -35,6 +37,7 @@ ControllerSpec ControllerSpec::parse(std::string_view text) {
   if (text == "baseline") return baseline();
   if (text == "nominal") return nominal();
   if (text == "default") return default_controller();
+  if (text == "active") return active();
   if (text.starts_with("w=")) {
     const std::string_view number = text.substr(2);
     double w = 0.0;
@@ -49,8 +52,8 @@ ControllerSpec ControllerSpec::parse(std::string_view text) {
     }
   }
   throw InvalidArgumentError(
-      "controller", fmt::format("controller: is \"{}\"; rule: must be baseline, nominal, default "
-                                "or w=<number in [0, 1]>",
+      "controller", fmt::format("controller: is \"{}\"; rule: must be baseline, nominal, default, "
+                                "active or w=<number in [0, 1]>",
                                 text));
 }
 

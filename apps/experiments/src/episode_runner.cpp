@@ -55,6 +55,10 @@ extern template void run_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetu
                                                                const SimplexSigmaPoints&,
                                                                EpisodeResult&);
 
+extern template void run_active<1>(const EpisodeSetup&, EpisodeResult&);
+extern template void run_active<3>(const EpisodeSetup&, EpisodeResult&);
+extern template void run_active<Dynamic>(const EpisodeSetup&, EpisodeResult&);
+
 namespace {
 
 // Fisher–Yates with the stream's own integer distribution (std::shuffle's algorithm is
@@ -100,6 +104,10 @@ void run_with_dimension(const EpisodeSetup& setup, const ControllerSpec& spec,
                         EpisodeResult& result) {
   if (!spec.estimates()) {
     run_unfiltered<N>(setup, spec, result);
+    return;
+  }
+  if (spec.kind == ControllerSpec::Kind::active) {
+    run_active<N>(setup, result);
     return;
   }
   const ExperimentConfig& config = *setup.config;

@@ -86,7 +86,7 @@ void simulate(C& controller, const EpisodeSetup& setup, EpisodeResult& result) {
       result.offset.col(t) = drift.offset();
       if constexpr (EstimatingController<C>) {
         result.estimate.col(t) = controller.offset_estimate();
-        result.trace_p(t) = controller.filter().covariance().trace();
+        result.trace_p(t) = controller.offset_covariance().trace();
       } else {
         result.estimate.col(t).setZero();
         result.trace_p(t) = std::numeric_limits<double>::quiet_NaN();
@@ -140,6 +140,10 @@ inline AnyExplorationLoss make_exploration_loss(ExplorationKind kind, const Case
   }
   return AnyExplorationLoss(TraceLoss{});
 }
+
+/// The active controller (instantiated in episodes_active.cpp).
+template <int N>
+void run_active(const EpisodeSetup& setup, EpisodeResult& result);
 
 /// The default controller or a w-controller with a `Scheme` filter of dimension N.
 template <int N, SigmaPointScheme Scheme>

@@ -2,8 +2,9 @@
 /// @file
 /// `ControllerSpec`: which controller an episode runs, in the paper's vocabulary (Sec. 2.4):
 /// the baseline (individualized, Def. 2, eq. 3), the nominal controller (Def. 1, eq. 2), the
-/// default controller (eq. 9) and the w-controllers (eqs. 11–14). Spelled "baseline",
-/// "nominal", "default" and "w=0.3" in configs, on the command line and in result files.
+/// default controller (eq. 9) and the w-controllers (eqs. 11–14) — and, beyond the paper, the
+/// active controller (controllers' active_controller.hpp). Spelled "baseline", "nominal",
+/// "default", "w=0.3" and "active" in configs, on the command line and in result files.
 
 #include <compare>
 #include <string>
@@ -13,7 +14,7 @@
 namespace twincal {
 
 struct ControllerSpec {
-  enum class Kind { baseline, nominal, default_control, lookahead };
+  enum class Kind { baseline, nominal, default_control, lookahead, active };
 
   Kind kind = Kind::baseline;
   /// Exploration weight of eq. (13); used by lookahead only.
@@ -25,11 +26,12 @@ struct ControllerSpec {
     return {Kind::default_control, 0.0};
   }
   [[nodiscard]] static ControllerSpec lookahead(double w) noexcept { return {Kind::lookahead, w}; }
+  [[nodiscard]] static ControllerSpec active() noexcept { return {Kind::active, 0.0}; }
 
   /// The paper's 13: baseline, default and the w-controllers for w = 0, 0.1, …, 1.
   [[nodiscard]] static std::vector<ControllerSpec> paper();
 
-  /// "baseline", "nominal", "default" or "w=<w>" (shortest exact form: "w=0.3", "w=1").
+  /// "baseline", "nominal", "default", "active" or "w=<w>" (shortest exact form: "w=0.3").
   [[nodiscard]] std::string label() const;
 
   /// Parses a label (also "w=.30"; surrounding blanks are not allowed).
@@ -38,7 +40,7 @@ struct ControllerSpec {
 
   /// Whether the controller runs a filter (and so has δû_t, P_t and can diverge).
   [[nodiscard]] bool estimates() const noexcept {
-    return kind == Kind::default_control || kind == Kind::lookahead;
+    return kind == Kind::default_control || kind == Kind::lookahead || kind == Kind::active;
   }
 
   friend bool operator==(const ControllerSpec&, const ControllerSpec&) = default;

@@ -1,0 +1,362 @@
+#pragma once
+/// @file
+/// `ActiveCalibrationController<Twin, N, Probe, Scheme, Optimizer>` and its preset
+/// `ActiveController<Twin, N>`: a controller that tracks the offset δu* of every locator at once
+/// and whose cost grows polynomially in d (docs/controllers.md, "Beyond the paper"). Per
+/// assembly x_t:
+///   1. u0(x_t), z*(x_t) (eq. 3) and the time update of the random walk (eq. 5c), P ← P + q·I;
+///   2. the twin's local model Q²(x_t, v) ≈ c + 2gᵀ(v − u0) + (v − u0)ᵀH(v − u0)
+///      (QuadraticSurrogate: d + 1 evaluations, (d + 1)(d + 2)/2 when H is refitted), checked
+///      against the twin at two points where it is about to be used;
+///   3. a known probe p (the Probe policy, InformationProbe by default: the principal axes of
+///      H^{1/2} P H^{1/2}, sized by information per unit of quality cost) and
+///      u_t = clip(u0 + δû + p) to the twin's locator bounds, so a lost estimate never drives the
+///      fixture outside its range;
+///   4. observe: the update with the exact Gaussian moments of z_t² under the quadratic model
+///      (quadratic_moments.hpp) — or, when the model failed its check (a twin that is not
+///      quadratic, e.g. RuggedTwin), a sigma-point update of z_t with the Scheme policy;
+///      then the guards: an innovation gate that inflates an overconfident P, process noise
+///      adapted to the normalized innovations, and a floor and a ceiling on P's eigenvalues.
+/// Twin evaluations per assembly: d + 3 (model and check), (d + 1)(d + 2)/2 + 2 on a refit, plus
+/// the sigma points in the fallback — O(d²), against the paper's O(2^d) candidates × sigma
+/// points.
+///
+/// Failure policy: when fitting or checking the model fails (a twin error, a non-finite value),
+/// the assembly runs in the sigma-point mode with p = 0, and last_proposal().fallback says why;
+/// the estimate is not touched before observe. Non-finite z is refused by observe (NonFiniteError)
+/// with the state unchanged.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+#include <fmt/format.h>
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+
+#include "twincal/controllers/active_options.hpp"
+#include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/individual_optimum.hpp"
+#include "twincal/controllers/information_probe.hpp"
+#include "twincal/controllers/nlopt_optimizer.hpp"
+#include "twincal/controllers/optimizer.hpp"
+#include "twincal/controllers/probe_design.hpp"
+#include "twincal/controllers/proposal_report.hpp"
+#include "twincal/controllers/quadratic_model.hpp"
+#include "twincal/controllers/quadratic_moments.hpp"
+#include "twincal/controllers/quadratic_surrogate.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/random_stream.hpp"
+#include "twincal/core/validate.hpp"
+#include "twincal/filters/sigma_point_scheme.hpp"
+#include "twincal/filters/spherical_radial_sigma_points.hpp"
+#include "twincal/models/twin.hpp"
+
+namespace twincal {
+
+/// What the active controller did for one assembly, beyond the ProposalReport.
+struct ActiveStepReport {
+  bool quadratic = false;        ///< updated with the quadratic model's exact moments
+  double model_error = 0.0;      ///< largest relative error of the model at the check points
+  bool hessian_refitted = false;  ///< this assembly paid for a full fit of H
+  double probe_norm = 0.0;       ///< |p|
+  double horizon = 0.0;          ///< T of the probe design
+  double process_variance = 0.0;  ///< q used in this assembly's time update
+  double normalized_innovation = 0.0;  ///< ν²/S of the last update (after observe)
+  bool gated = false;            ///< the last update inflated P at the innovation gate
+};
+
+template <Twin T, int N = Dynamic, typename Probe = InformationProbe<N>,
+          SigmaPointScheme Scheme = SphericalRadialSigmaPoints, Optimizer O = NloptOptimizer>
+requires ProbeDesign<Probe, N>
+class ActiveCalibrationController {
+ public:
+  static constexpr int dimension_at_compile_time = N;
+  using Twin = T;
+  using Assembly = typename T::Assembly;
+  using ControlVector = Vector<N>;
+  using CovarianceMatrix = SquareMatrix<N>;
+
+  /// Starts from δû0 ~ N(0, initial_variance·I), drawn from `stream.substream("initial_offset")`
+  /// (as the paper's filters are, so controllers built from one stream start alike), and
+  /// P0 = initial_variance·I. Refers to `twin`, which must outlive the controller.
+  /// @throws InvalidArgumentError (options, the twin's box), DimensionMismatchError (N and the
+  ///         twin's d).
+  ActiveCalibrationController(const T& twin, const RandomStream& stream, ActiveOptions options = {},
+                              Probe probe = {}, Scheme scheme = {}, O optimizer = O{})
+      : twin_(&twin),
+        options_((require_valid("ActiveOptions", options), options)),
+        optimum_(twin, std::move(optimizer)),
+        surrogate_(twin, options_.surrogate),
+        probe_(std::move(probe)),
+        scheme_(std::move(scheme)) {
+    const Index d = twin.control_dimension();
+    if constexpr (N != Dynamic) require_dimension("twin.control_dimension()", d, N);
+    RandomStream initial = stream.substream("initial_offset");
+    mean_.resize(d);
+    initial.fill_normal(mean_);
+    mean_ *= std::sqrt(options_.initial_variance);
+    covariance_ = CovarianceMatrix::Identity(d, d) * options_.initial_variance;
+    process_variance_ = options_.process_variance;
+    const VectorX width = twin.upper_bounds() - twin.lower_bounds();
+    max_probe_ = options_.max_probe_fraction * width;
+    covariance_ceiling_ = std::pow(options_.covariance_ceiling_fraction * width.minCoeff(), 2);
+    identity_ = CovarianceMatrix::Identity(d, d);
+    zero_gradient_ = ControlVector::Zero(d);
+    probe_vector_.resize(d);
+    control_.resize(d);
+    check_points_.resize(d, 2);
+    covariance_eigen_ = Eigen::SelfAdjointEigenSolver<CovarianceMatrix>(d);
+    moments_.cross_covariance.resize(d);
+    moments_work_.resize(d);
+    const Index m = scheme_.num_points(d);
+    mean_weights_.resize(m);
+    covariance_weights_.resize(m);
+    scheme_.weights(d, mean_weights_, covariance_weights_);
+    points_.resize(d, m);
+    shifted_.resize(d, m);
+    point_values_.resize(m);
+    gain_.resize(d);
+  }
+
+  /// Chooses u_t for assembly x_t (steps 1–3 of the file comment).
+  [[nodiscard]] ControlVector propose(const Assembly& assembly) {
+    const IndividualControl u0 = optimum_(assembly);
+    report_.reset();
+    step_ = ActiveStepReport{};
+    report_.individual_control = u0.control;
+    report_.optimal_quality = u0.quality;
+    report_.optimizer_evaluations = u0.evaluations;
+
+    step_.process_variance = process_variance_;
+    covariance_.diagonal().array() += process_variance_;
+    bound_covariance();
+    center_ = u0.control;
+    report_.default_control = center_ + mean_;
+
+    quadratic_ = false;
+    std::uint64_t evaluations = 0;
+    if (assemblies_ >= retry_at_) {
+      try {
+        evaluations += fit_model(assembly);
+      } catch (const std::exception& error) {
+        report_.fallback = error.what();
+        quadratic_ = false;
+      }
+      if (!quadratic_) retry_at_ = assemblies_ + options_.quadratic_retry;
+    }
+    ++assemblies_;
+    step_.quadratic = quadratic_;
+
+    // The probe: priced by the quadratic model, or by P alone when there is none.
+    const SquareMatrix<N>& hessian = quadratic_ ? model_.hessian : identity_;
+    const double value = quadratic_ ? model_.value : u0.quality * u0.quality;
+    const double trace_h = hessian.trace();
+    const double refill = process_variance_ * trace_h;
+    const double uncertainty = (hessian.cwiseProduct(covariance_)).sum();  // tr(HP), H symmetric
+    step_.horizon = refill > 0.0 ? std::clamp(uncertainty / refill, 1.0, options_.max_horizon)
+                                 : options_.max_horizon;
+    if (report_.fell_back()) {
+      probe_vector_.setZero();
+    } else {
+      const ProbeContext<N> context{.hessian = hessian,
+                                    .half_gradient = quadratic_ ? model_.half_gradient
+                                                                : zero_gradient_,
+                                    .covariance = covariance_,
+                                    .value = value,
+                                    .measurement_variance = options_.measurement_variance,
+                                    .horizon = step_.horizon,
+                                    .max_probe = max_probe_};
+      probe_.design(context, probe_vector_);
+    }
+    step_.probe_norm = probe_vector_.norm();
+    control_ = center_ + mean_ + probe_vector_;
+    control_ = control_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
+    report_.control = control_;
+    report_.quality_evaluations = evaluations;
+    pending_ = true;
+    return control_;
+  }
+
+  /// Updates the estimate with the measured quality z_t of the applied control (step 4). A
+  /// control other than the proposal, or an observe without a propose, is updated with sigma
+  /// points (its model may not hold there).
+  /// @throws NonFiniteError (z), DimensionMismatchError (control), with the state unchanged;
+  ///         the twin's errors in the sigma-point mode, also with the state unchanged.
+  void observe(const Assembly& assembly, const ControlVector& control, double z) {
+    require_dimension("control", control.size(), dimension());
+    require_finite("z", z);
+    require_finite("control", control);
+    if (pending_ && quadratic_ && control == control_) {
+      update_quadratic(control, z);
+    } else {
+      update_sigma_points(assembly, control, z);
+    }
+    pending_ = false;
+  }
+
+  [[nodiscard]] Index dimension() const noexcept { return mean_.size(); }
+  [[nodiscard]] const ControlVector& offset_estimate() const noexcept { return mean_; }
+  [[nodiscard]] MatrixX offset_covariance() const { return covariance_; }
+  [[nodiscard]] const CovarianceMatrix& covariance() const noexcept { return covariance_; }
+  [[nodiscard]] double process_variance() const noexcept { return process_variance_; }
+  [[nodiscard]] const ActiveOptions& options() const noexcept { return options_; }
+  [[nodiscard]] const ProposalReport& last_proposal() const noexcept { return report_; }
+  [[nodiscard]] const ActiveStepReport& last_step() const noexcept { return step_; }
+  /// The model of the last proposal (valid when last_step().quadratic).
+  [[nodiscard]] const QuadraticModel<N>& model() const noexcept { return model_; }
+
+ private:
+  // Fits the quadratic model at u0 and checks it at u0 ± (2·sqrt(diag P) + h) in a sign
+  // pattern; a failed check with a kept H refits H once. Sets quadratic_.
+  std::uint64_t fit_model(const Assembly& assembly) {
+    std::uint64_t evaluations = 0;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      step_.hessian_refitted = step_.hessian_refitted || surrogate_.hessian_stale();
+      const bool refit = surrogate_.hessian_stale();
+      evaluations += surrogate_.fit(assembly, center_, model_);
+      const Index d = dimension();
+      for (Index i = 0; i < d; ++i) {
+        const double reach = 2.0 * std::sqrt(covariance_(i, i)) + 0.5 * max_probe_(i);
+        check_points_(i, 0) = center_(i) + ((i % 2 == 0) ? reach : -reach);
+        check_points_(i, 1) = center_(i) - ((i / 2) % 2 == 0 ? reach : -reach);
+      }
+      evaluations += surrogate_.check(assembly, model_, check_points_, step_.model_error);
+      quadratic_ = step_.model_error <= options_.surrogate.tolerance;
+      if (quadratic_ || refit) break;
+      surrogate_.invalidate_hessian();
+    }
+    return evaluations;
+  }
+
+  void update_quadratic(const ControlVector& control, double z) {
+    const double sigma2 = options_.measurement_variance;
+    quadratic_measurement_moments(model_, control, mean_, covariance_, moments_work_, moments_);
+    // z = Q + N(0, σz²): E[z²] = E[Q²] + σz², Var(z²) = Var(Q²) + 4 E[Q²] σz² + 2 σz⁴.
+    const auto innovation_of = [&](double& variance) {
+      const double expected = std::max(moments_.mean, 0.0);
+      variance = moments_.variance + 4.0 * expected * sigma2 + 2.0 * sigma2 * sigma2;
+      return z * z - (moments_.mean + sigma2);
+    };
+    double variance = 0.0;
+    double innovation = innovation_of(variance);
+    const double nis = innovation * innovation / variance;
+    const double gate2 = options_.innovation_gate * options_.innovation_gate;
+    step_.gated = nis > gate2;
+    if (step_.gated) {
+      // Overconfident: widen P by how far the innovation is beyond the gate, then update.
+      covariance_ *= nis / gate2;
+      quadratic_measurement_moments(model_, control, mean_, covariance_, moments_work_,
+                                    moments_);
+      innovation = innovation_of(variance);
+    }
+    gain_ = moments_.cross_covariance / variance;
+    commit(innovation, variance, nis);
+  }
+
+  void update_sigma_points(const Assembly& assembly, const ControlVector& control, double z) {
+    const Index d = dimension();
+    const Index m = points_.cols();
+    const Eigen::LLT<CovarianceMatrix> factor(covariance_);
+    if (factor.info() != Eigen::Success) {
+      throw NotPositiveDefiniteError("offset covariance",
+                                     fmt::format("offset covariance: cannot be factored for "
+                                                 "the sigma points; smallest eigenvalue {}",
+                                                 smallest_eigenvalue(covariance_)),
+                                     smallest_eigenvalue(covariance_));
+    }
+    scheme_.generate(mean_, factor.matrixL().toDenseMatrix(), points_);
+    shifted_ = (-points_).colwise() + control;  // u − χ_i
+    twin_->quality_batch(assembly, shifted_, point_values_);
+    require_finite("twin quality at the sigma points", point_values_);
+    report_.quality_evaluations += static_cast<std::uint64_t>(m);
+    const double predicted = point_values_.dot(mean_weights_);
+    double variance = options_.measurement_variance;
+    gain_.setZero(d);
+    for (Index i = 0; i < m; ++i) {
+      const double deviation = point_values_(i) - predicted;
+      variance += covariance_weights_(i) * deviation * deviation;
+      gain_ += (covariance_weights_(i) * deviation) * (points_.col(i) - mean_);
+    }
+    gain_ /= variance;
+    const double innovation = z - predicted;
+    commit(innovation, variance, innovation * innovation / variance);
+  }
+
+  // x⁺ = x + K ν, P⁺ = P − K S Kᵀ, then the guards.
+  void commit(double innovation, double variance, double nis) {
+    mean_.noalias() += gain_ * innovation;
+    covariance_.noalias() -= (gain_ * variance) * gain_.transpose();
+    covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+    bound_covariance();
+    step_.normalized_innovation = nis;
+    // Adapt q: innovations larger than predicted (ν²/S > 1) mean the offset moved more than the
+    // random walk allowed.
+    const double excess = std::clamp(nis - 1.0, -1.0, 3.0);
+    process_variance_ = std::clamp(process_variance_ * std::exp(options_.adaptation_rate * excess),
+                                   options_.min_process_variance, options_.max_process_variance);
+  }
+
+  // Floor and ceiling on P's eigenvalues (P stays symmetric positive definite and never claims
+  // more uncertainty than the box allows).
+  void bound_covariance() {
+    covariance_eigen_.compute(covariance_);
+    const Vector<N>& lambda = covariance_eigen_.eigenvalues();
+    if (lambda.minCoeff() >= options_.covariance_floor && lambda.maxCoeff() <= covariance_ceiling_) {
+      return;
+    }
+    const SquareMatrix<N>& V = covariance_eigen_.eigenvectors();
+    covariance_.noalias() =
+        V * lambda.cwiseMax(options_.covariance_floor).cwiseMin(covariance_ceiling_).asDiagonal() *
+        V.transpose();
+  }
+
+  const T* twin_;
+  ActiveOptions options_;
+  IndividualOptimum<T, O> optimum_;
+  QuadraticSurrogate<T, N> surrogate_;
+  Probe probe_;
+  Scheme scheme_;
+  ControlVector mean_;
+  CovarianceMatrix covariance_;
+  double process_variance_ = 0.0;
+  VectorX max_probe_;
+  double covariance_ceiling_ = 0.0;
+  CovarianceMatrix identity_;
+  ControlVector zero_gradient_;
+  // Per-assembly state and workspaces, sized once.
+  ControlVector center_;
+  ControlVector probe_vector_;
+  ControlVector control_;
+  MatrixX check_points_;
+  QuadraticModel<N> model_;
+  QuadraticMomentsWorkspace<N> moments_work_;
+  QuadraticMeasurementMoments<N> moments_;
+  Eigen::SelfAdjointEigenSolver<CovarianceMatrix> covariance_eigen_;
+  VectorX mean_weights_;
+  VectorX covariance_weights_;
+  MatrixX points_;
+  MatrixX shifted_;
+  VectorX point_values_;
+  ControlVector gain_;
+  bool quadratic_ = false;
+  bool pending_ = false;
+  Index assemblies_ = 0;
+  Index retry_at_ = 0;
+  ProposalReport report_;
+  ActiveStepReport step_;
+};
+
+/// The preset: InformationProbe, cubature sigma points for a twin that is not quadratic, NLopt
+/// for a twin without a known optimum.
+template <Twin T, int N = Dynamic>
+using ActiveController = ActiveCalibrationController<T, N>;
+
+}  // namespace twincal

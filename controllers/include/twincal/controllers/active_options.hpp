@@ -1,0 +1,87 @@
+#pragma once
+/// @file
+/// `ActiveOptions`: the settings of the active controller (active_controller.hpp). One set for
+/// every twin: the scales that differ between twins (the box, the quality, its curvature, the
+/// offset's uncertainty) enter through the twin and the filter, not through these numbers.
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "twincal/controllers/quadratic_surrogate.hpp"
+#include "twincal/core/eigen.hpp"
+
+namespace twincal {
+
+struct ActiveOptions {
+  /// σz² of the measured quality, eq. (5b) (the paper's 1e-4 for the body, 1e-6 for the door).
+  double measurement_variance = 1e-4;
+  /// δû0 ~ N(0, initial_variance·I) and P0 = initial_variance·I (the paper's 1e-3).
+  double initial_variance = 1e-3;
+  /// Process noise of the random walk, Σu = q·I (eq. 5c): q starts here and adapts online to the
+  /// normalized innovations, within [min_process_variance, max_process_variance].
+  double process_variance = 1e-4;
+  double min_process_variance = 1e-8;
+  double max_process_variance = 1e-2;
+  /// Rate of that adaptation: log q moves by adaptation_rate·(ν²/S − 1) per assembly (clipped).
+  double adaptation_rate = 0.1;
+  /// Upper bound on the horizon T (assemblies) that prices information in the probe design.
+  double max_horizon = 100.0;
+  /// Largest probe per locator, as a fraction of the twin's box width there.
+  double max_probe_fraction = 0.25;
+  /// Normalized-innovation gate: |ν|/√S above it means the filter is overconfident; P is
+  /// inflated by (ν²/S)/gate² before the update.
+  double innovation_gate = 5.0;
+  /// Bounds on P's eigenvalues: floor (absolute) and ceiling ((fraction · smallest box width)²).
+  double covariance_floor = 1e-12;
+  double covariance_ceiling_fraction = 1.0;
+  /// How the twin's local quadratic model is fitted and checked.
+  QuadraticSurrogateOptions surrogate{};
+  /// Assemblies updated with sigma points after the model failed its check, before trying again.
+  Index quadratic_retry = 25;
+
+  [[nodiscard]] std::optional<std::string> validate() const {
+    const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
+    if (!positive(measurement_variance)) {
+      return fmt::format("measurement_variance is {}; it must be finite and > 0",
+                         measurement_variance);
+    }
+    if (!positive(initial_variance)) {
+      return fmt::format("initial_variance is {}; it must be finite and > 0", initial_variance);
+    }
+    if (!positive(min_process_variance) || !positive(max_process_variance) ||
+        !(min_process_variance <= process_variance && process_variance <= max_process_variance)) {
+      return fmt::format(
+          "process_variance is {} with bounds [{}, {}]; rule: 0 < min <= process_variance <= max "
+          "< inf",
+          process_variance, min_process_variance, max_process_variance);
+    }
+    if (!(adaptation_rate >= 0.0 && adaptation_rate <= 1.0)) {
+      return fmt::format("adaptation_rate is {}; it must lie in [0, 1]", adaptation_rate);
+    }
+    if (!(max_horizon >= 1.0) || !std::isfinite(max_horizon)) {
+      return fmt::format("max_horizon is {}; it must be finite and >= 1", max_horizon);
+    }
+    if (!(max_probe_fraction > 0.0 && max_probe_fraction <= 1.0)) {
+      return fmt::format("max_probe_fraction is {}; it must lie in (0, 1]", max_probe_fraction);
+    }
+    if (!(innovation_gate > 0.0) || !std::isfinite(innovation_gate)) {
+      return fmt::format("innovation_gate is {}; it must be finite and > 0", innovation_gate);
+    }
+    if (!positive(covariance_floor) || !positive(covariance_ceiling_fraction)) {
+      return fmt::format(
+          "covariance_floor and covariance_ceiling_fraction are {} and {}; both must be finite "
+          "and > 0",
+          covariance_floor, covariance_ceiling_fraction);
+    }
+    if (quadratic_retry < 1) {
+      return fmt::format("quadratic_retry is {}; it must be >= 1", quadratic_retry);
+    }
+    if (auto problem = surrogate.validate()) return "surrogate." + *problem;
+    return std::nullopt;
+  }
+};
+
+}  // namespace twincal

@@ -1,0 +1,199 @@
+#pragma once
+/// @file
+/// `QuadraticSurrogate<Twin, N>`: fits the QuadraticModel of Q²(x, ·) around the individualized
+/// control u0(x) from the twin itself, by finite differences in one twin batch, and checks it.
+///
+/// - Full fit: Q² at v0, v0 ± h_i e_i and v0 + h_i e_i + h_j e_j (i < j), (d + 1)(d + 2)/2
+///   evaluations, gives c, g and H; exact (to rounding) for a twin whose Q² is quadratic.
+/// - Gradient fit: with H kept from the last full fit, Q² at v0 and v0 + h_i e_i, d + 1
+///   evaluations, gives c and g. A compliant twin has one H for every assembly (y = A x + B u + c),
+///   so the full fit is needed only every `hessian_refresh` assemblies.
+/// - Check: the model against the twin at given points (the controller uses points where the
+///   model is about to be used); the largest relative error of Q² decides whether the twin is
+///   quadratic enough to be updated with exact moments, or needs sigma points.
+/// Steps h_i are a fraction of the twin's box per locator. Every evaluation is counted.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+#include <Eigen/Core>
+
+#include "twincal/controllers/quadratic_model.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/validate.hpp"
+#include "twincal/models/twin.hpp"
+
+namespace twincal {
+
+struct QuadraticSurrogateOptions {
+  /// Finite-difference step per locator, as a fraction of the twin's box width on that locator.
+  double step_fraction = 0.05;
+  /// Assemblies between full fits of H (1: every assembly).
+  Index hessian_refresh = 25;
+  /// Largest relative error |Q²_model − Q²_twin| / max(Q²_twin, c) accepted at the check points.
+  double tolerance = 1e-3;
+
+  [[nodiscard]] std::optional<std::string> validate() const {
+    if (!(step_fraction > 0.0 && step_fraction <= 0.5)) {
+      return fmt::format("step_fraction is {}; it must lie in (0, 0.5]", step_fraction);
+    }
+    if (hessian_refresh < 1) {
+      return fmt::format("hessian_refresh is {}; it must be >= 1", hessian_refresh);
+    }
+    if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
+      return fmt::format("tolerance is {}; it must be finite and > 0", tolerance);
+    }
+    return std::nullopt;
+  }
+};
+
+template <Twin T, int N = Dynamic>
+class QuadraticSurrogate {
+ public:
+  using Assembly = typename T::Assembly;
+
+  /// Refers to `twin`, which must outlive the surrogate.
+  /// @throws InvalidArgumentError (options; a twin box of zero or non-finite width).
+  QuadraticSurrogate(const T& twin, QuadraticSurrogateOptions options = {})
+      : twin_(&twin), options_(options) {
+    require_valid("QuadraticSurrogateOptions", options_);
+    const Index d = twin.control_dimension();
+    if constexpr (N != Dynamic) require_dimension("twin.control_dimension()", d, N);
+    steps_.resize(d);
+    for (Index i = 0; i < d; ++i) {
+      const double width = twin.upper_bounds()(i) - twin.lower_bounds()(i);
+      if (!(width > 0.0) || !std::isfinite(width)) {
+        throw InvalidArgumentError(
+            "twin bounds", fmt::format("twin bounds: locator {} has a box of width {}; rule: "
+                                       "the box must be finite with upper > lower",
+                                       i, width));
+      }
+      steps_(i) = options_.step_fraction * width;
+    }
+    hessian_.setZero(d, d);
+    const Index full = (d + 1) * (d + 2) / 2;
+    points_.resize(d, full);
+    values_.resize(full);
+  }
+
+  [[nodiscard]] Index dimension() const noexcept { return steps_.size(); }
+  [[nodiscard]] const QuadraticSurrogateOptions& options() const noexcept { return options_; }
+  /// Evaluations of a full fit, (d + 1)(d + 2)/2, and of a gradient fit, d + 1.
+  [[nodiscard]] Index full_fit_evaluations() const noexcept { return values_.size(); }
+  [[nodiscard]] Index gradient_fit_evaluations() const noexcept { return dimension() + 1; }
+  /// Whether the next fit will be a full one.
+  [[nodiscard]] bool hessian_stale() const noexcept {
+    return !has_hessian_ || age_ >= options_.hessian_refresh;
+  }
+  /// Forces the next fit to refit H (e.g. after a failed check).
+  void invalidate_hessian() noexcept { has_hessian_ = false; }
+
+  /// Fits `model` around `center` for `assembly` (full or gradient fit, see the file comment).
+  /// @returns the twin evaluations spent.
+  /// @throws NonFiniteError naming the point when the twin returns a non-finite quality; the
+  ///         twin's own errors propagate. The surrogate is unchanged when it throws.
+  std::uint64_t fit(const Assembly& assembly, const Vector<N>& center, QuadraticModel<N>& model) {
+    const Index d = dimension();
+    require_dimension("center", center.size(), d);
+    const bool full = hessian_stale();
+    const Index count = full ? full_fit_evaluations() : gradient_fit_evaluations();
+    auto points = points_.leftCols(count);
+    points.colwise() = center;
+    for (Index i = 0; i < d; ++i) points(i, 1 + i) += steps_(i);
+    if (full) {
+      for (Index i = 0; i < d; ++i) points(i, 1 + d + i) -= steps_(i);
+      Index column = 1 + 2 * d;
+      for (Index i = 0; i < d; ++i) {
+        for (Index j = i + 1; j < d; ++j, ++column) {
+          points(i, column) += steps_(i);
+          points(j, column) += steps_(j);
+        }
+      }
+    }
+    evaluate_squares(assembly, points, values_.head(count));
+
+    const double f0 = values_(0);
+    model.center = center;
+    model.value = f0;
+    model.half_gradient.resize(d);
+    if (full) {
+      for (Index i = 0; i < d; ++i) {
+        const double h = steps_(i);
+        const double plus = values_(1 + i);
+        const double minus = values_(1 + d + i);
+        hessian_(i, i) = (plus - 2.0 * f0 + minus) / (2.0 * h * h);
+        model.half_gradient(i) = (plus - minus) / (4.0 * h);
+      }
+      Index column = 1 + 2 * d;
+      for (Index i = 0; i < d; ++i) {
+        for (Index j = i + 1; j < d; ++j, ++column) {
+          const double mixed =
+              (values_(column) - values_(1 + i) - values_(1 + j) + f0) / (2.0 * steps_(i) * steps_(j));
+          hessian_(i, j) = mixed;
+          hessian_(j, i) = mixed;
+        }
+      }
+      has_hessian_ = true;
+      age_ = 0;
+    } else {
+      for (Index i = 0; i < d; ++i) {
+        const double h = steps_(i);
+        model.half_gradient(i) = (values_(1 + i) - f0 - h * h * hessian_(i, i)) / (2.0 * h);
+      }
+    }
+    ++age_;
+    model.hessian = hessian_;
+    return static_cast<std::uint64_t>(count);
+  }
+
+  /// The largest relative error of the model's Q² against the twin's at the columns of
+  /// `points` (one twin batch), written to `error`.
+  /// @returns the twin evaluations spent.
+  std::uint64_t check(const Assembly& assembly, const QuadraticModel<N>& model,
+                      const Eigen::Ref<const MatrixX>& points, double& error) {
+    require_dimension("points", points.rows(), dimension(), "rows");
+    const Index count = points.cols();
+    if (values_.size() < count) values_.resize(count);
+    evaluate_squares(assembly, points, values_.head(count));
+    error = 0.0;
+    for (Index c = 0; c < count; ++c) {
+      const double twin = values_(c);
+      const double scale = std::max({twin, model.value, std::numeric_limits<double>::min()});
+      error = std::max(error, std::abs(model(points.col(c)) - twin) / scale);
+    }
+    return static_cast<std::uint64_t>(count);
+  }
+
+ private:
+  template <typename Points, typename Out>
+  void evaluate_squares(const Assembly& assembly, const Points& points, Out&& out) const {
+    twin_->quality_batch(assembly, points, out);
+    for (Index c = 0; c < out.size(); ++c) {
+      if (!std::isfinite(out(c))) {
+        throw NonFiniteError("twin quality",
+                             fmt::format("twin quality: Q(x, v) is {} at v = column {} of the "
+                                         "surrogate's points; rule: the twin must return finite "
+                                         "qualities",
+                                         out(c), c));
+      }
+      out(c) *= out(c);
+    }
+  }
+
+  const T* twin_;
+  QuadraticSurrogateOptions options_;
+  VectorX steps_;
+  SquareMatrix<N> hessian_;
+  bool has_hessian_ = false;
+  Index age_ = 0;
+  MatrixX points_;
+  VectorX values_;
+};
+
+}  // namespace twincal
