@@ -22,6 +22,8 @@ TEST(ControllerSpec, LabelsParseBackToTheSameSpec) {
     EXPECT_EQ(ControllerSpec::parse(spec.label()), spec) << spec.label();
   }
   EXPECT_EQ(ControllerSpec::parse("nominal"), ControllerSpec::nominal());
+  EXPECT_EQ(ControllerSpec::parse("active"), ControllerSpec::active());
+  EXPECT_EQ(ControllerSpec::active().label(), "active");
   EXPECT_EQ(ControllerSpec::parse("w=0.30").label(), "w=0.3");
 }
 
@@ -37,6 +39,7 @@ TEST(ControllerSpec, OnlyFilterBasedControllersEstimate) {
   EXPECT_FALSE(ControllerSpec::nominal().estimates());
   EXPECT_TRUE(ControllerSpec::default_controller().estimates());
   EXPECT_TRUE(ControllerSpec::lookahead(0.5).estimates());
+  EXPECT_TRUE(ControllerSpec::active().estimates());
 }
 
 }  // namespace

@@ -105,6 +105,13 @@ TEST(RunEpisode, CountsTheFiltersEvaluations) {
     EXPECT_LE(w.q_evaluations(t), 32.0 * 7.0);
     EXPECT_EQ(std::fmod(w.q_evaluations(t), 7.0), 0.0);
   }
+  // The active controller fits its model (d + 1 = 4, or (d + 1)(d + 2)/2 = 10 when it refits H)
+  // and checks it at 2 points: 6 or 12 per assembly, within 4 (d + 1)² = 64.
+  const EpisodeResult active = run_episode(twin, config, ControllerSpec::active(), 0);
+  EXPECT_EQ(active.q_evaluations(0), 12.0);
+  for (Index t = 1; t < active.steps; ++t) {
+    EXPECT_TRUE(active.q_evaluations(t) == 6.0 || active.q_evaluations(t) == 12.0) << t;
+  }
 }
 
 TEST(RunEpisode, DetectsDivergenceAndStopsOrContinuesAsConfigured) {

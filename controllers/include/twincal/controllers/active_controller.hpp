@@ -9,7 +9,8 @@
 ///      (QuadraticSurrogate: d + 1 evaluations, (d + 1)(d + 2)/2 when H is refitted), checked
 ///      against the twin at two points where it is about to be used;
 ///   3. a known probe p (the Probe policy, InformationProbe by default: the principal axes of
-///      H^{1/2} P H^{1/2}, sized by information per unit of quality cost) and
+///      H^{1/2} P H^{1/2}, sized by information per unit of quality cost; p = 0 without a model
+///      that passed its check) and
 ///      u_t = clip(u0 + δû + p) to the twin's locator bounds, so a lost estimate never drives the
 ///      fixture outside its range;
 ///   4. observe: the update with the exact Gaussian moments of z_t² under the quadratic model
@@ -63,14 +64,14 @@ namespace twincal {
 
 /// What the active controller did for one assembly, beyond the ProposalReport.
 struct ActiveStepReport {
-  bool quadratic = false;        ///< updated with the quadratic model's exact moments
-  double model_error = 0.0;      ///< largest relative error of the model at the check points
-  bool hessian_refitted = false;  ///< this assembly paid for a full fit of H
-  double probe_norm = 0.0;       ///< |p|
-  double horizon = 0.0;          ///< T of the probe design
-  double process_variance = 0.0;  ///< q used in this assembly's time update
+  bool quadratic = false;              ///< updated with the quadratic model's exact moments
+  double model_error = 0.0;            ///< largest relative error of the model at the check points
+  bool hessian_refitted = false;       ///< this assembly paid for a full fit of H
+  double probe_norm = 0.0;             ///< |p|
+  double horizon = 0.0;                ///< T of the probe design
+  double process_variance = 0.0;       ///< q used in this assembly's time update
   double normalized_innovation = 0.0;  ///< ν²/S of the last update (after observe)
-  bool gated = false;            ///< the last update inflated P at the innovation gate
+  bool gated = false;                  ///< the last update inflated P at the innovation gate
 };
 
 template <Twin T, int N = Dynamic, typename Probe = InformationProbe<N>,
@@ -96,7 +97,8 @@ class ActiveCalibrationController {
         optimum_(twin, std::move(optimizer)),
         surrogate_(twin, options_.surrogate),
         probe_(std::move(probe)),
-        scheme_(std::move(scheme)) {
+        scheme_(std::move(scheme)),
+        covariance_eigen_(twin.control_dimension()) {
     const Index d = twin.control_dimension();
     if constexpr (N != Dynamic) require_dimension("twin.control_dimension()", d, N);
     RandomStream initial = stream.substream("initial_offset");
@@ -113,7 +115,6 @@ class ActiveCalibrationController {
     probe_vector_.resize(d);
     control_.resize(d);
     check_points_.resize(d, 2);
-    covariance_eigen_ = Eigen::SelfAdjointEigenSolver<CovarianceMatrix>(d);
     moments_.cross_covariance.resize(d);
     moments_work_.resize(d);
     const Index m = scheme_.num_points(d);
@@ -155,7 +156,7 @@ class ActiveCalibrationController {
     ++assemblies_;
     step_.quadratic = quadratic_;
 
-    // The probe: priced by the quadratic model, or by P alone when there is none.
+    // The probe, priced by the quadratic model.
     const SquareMatrix<N>& hessian = quadratic_ ? model_.hessian : identity_;
     const double value = quadratic_ ? model_.value : u0.quality * u0.quality;
     const double trace_h = hessian.trace();
@@ -163,17 +164,20 @@ class ActiveCalibrationController {
     const double uncertainty = (hessian.cwiseProduct(covariance_)).sum();  // tr(HP), H symmetric
     step_.horizon = refill > 0.0 ? std::clamp(uncertainty / refill, 1.0, options_.max_horizon)
                                  : options_.max_horizon;
-    if (report_.fell_back()) {
+    if (!quadratic_) {
+      // Without a model that holds, a probe cannot be priced: the controller is then the
+      // default controller (eq. 9) with a sigma-point update. (Probing along P's axes with
+      // H = I was measured to lose a RuggedTwin's offset.)
       probe_vector_.setZero();
     } else {
-      const ProbeContext<N> context{.hessian = hessian,
-                                    .half_gradient = quadratic_ ? model_.half_gradient
-                                                                : zero_gradient_,
-                                    .covariance = covariance_,
-                                    .value = value,
-                                    .measurement_variance = options_.measurement_variance,
-                                    .horizon = step_.horizon,
-                                    .max_probe = max_probe_};
+      const ProbeContext<N> context{
+          .hessian = hessian,
+          .half_gradient = quadratic_ ? model_.half_gradient : zero_gradient_,
+          .covariance = covariance_,
+          .value = value,
+          .measurement_variance = options_.measurement_variance,
+          .horizon = step_.horizon,
+          .max_probe = max_probe_};
       probe_.design(context, probe_vector_);
     }
     step_.probe_norm = probe_vector_.norm();
@@ -199,6 +203,22 @@ class ActiveCalibrationController {
     } else {
       update_sigma_points(assembly, control, z);
     }
+    pending_ = false;
+  }
+
+  /// Restarts the estimate at N(estimate, covariance) — a re-initialization from outside (a
+  /// measurement of the fixture, a least-squares fit over a history) — keeping q and the model.
+  /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError, with the state
+  ///         unchanged.
+  void restart(const ControlVector& estimate, const CovarianceMatrix& covariance) {
+    require_dimension("estimate", estimate.size(), dimension());
+    require_finite("estimate", estimate);
+    require_shape("covariance", covariance, dimension(), dimension());
+    require_finite("covariance", covariance);
+    require_symmetric("covariance", covariance);
+    require_positive_definite("covariance", covariance);
+    mean_ = estimate;
+    covariance_ = covariance;
     pending_ = false;
   }
 
@@ -251,10 +271,11 @@ class ActiveCalibrationController {
     const double gate2 = options_.innovation_gate * options_.innovation_gate;
     step_.gated = nis > gate2;
     if (step_.gated) {
-      // Overconfident: widen P by how far the innovation is beyond the gate, then update.
+      // Overconfident: widen P by how far the innovation is beyond the gate, then update. (A
+      // rank-one widening along the measured direction only was measured worse at d = 12: the
+      // error there is spread over every direction, not just the one measured.)
       covariance_ *= nis / gate2;
-      quadratic_measurement_moments(model_, control, mean_, covariance_, moments_work_,
-                                    moments_);
+      quadratic_measurement_moments(model_, control, mean_, covariance_, moments_work_, moments_);
       innovation = innovation_of(variance);
     }
     gain_ = moments_.cross_covariance / variance;
@@ -309,7 +330,8 @@ class ActiveCalibrationController {
   void bound_covariance() {
     covariance_eigen_.compute(covariance_);
     const Vector<N>& lambda = covariance_eigen_.eigenvalues();
-    if (lambda.minCoeff() >= options_.covariance_floor && lambda.maxCoeff() <= covariance_ceiling_) {
+    if (lambda.minCoeff() >= options_.covariance_floor &&
+        lambda.maxCoeff() <= covariance_ceiling_) {
       return;
     }
     const SquareMatrix<N>& V = covariance_eigen_.eigenvectors();

@@ -124,8 +124,10 @@ class InformationProbe {
  private:
   void resize(Index d) {
     if (root_.size() == d) return;
-    hessian_eigen_ = Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>(d);
-    s_eigen_ = Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>(d);
+    if constexpr (N == Dynamic) {  // fixed sizes need no allocation (and no reassignment)
+      hessian_eigen_ = Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>(d);
+      s_eigen_ = Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>(d);
+    }
     for (Vector<N>* v : {&root_, &inverse_root_, &b0_, &b1_, &pb0_, &pb1_, &hpb_, &q_}) {
       v->resize(d);
     }

@@ -23,9 +23,9 @@ namespace twincal {
 
 template <int N>
 struct QuadraticMeasurementMoments {
-  double mean = 0.0;            ///< E[h]
-  Vector<N> cross_covariance;   ///< Cov(δu, h)
-  double variance = 0.0;        ///< Var(h)
+  double mean = 0.0;           ///< E[h]
+  Vector<N> cross_covariance;  ///< Cov(δu, h)
+  double variance = 0.0;       ///< Var(h)
 };
 
 /// Workspace for quadratic_measurement_moments: sized once, so repeated calls at a dynamic size

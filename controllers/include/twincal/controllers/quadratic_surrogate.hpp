@@ -133,8 +133,8 @@ class QuadraticSurrogate {
       Index column = 1 + 2 * d;
       for (Index i = 0; i < d; ++i) {
         for (Index j = i + 1; j < d; ++j, ++column) {
-          const double mixed =
-              (values_(column) - values_(1 + i) - values_(1 + j) + f0) / (2.0 * steps_(i) * steps_(j));
+          const double mixed = (values_(column) - values_(1 + i) - values_(1 + j) + f0) /
+                               (2.0 * steps_(i) * steps_(j));
           hessian_(i, j) = mixed;
           hessian_(j, i) = mixed;
         }
