@@ -106,6 +106,7 @@ class ActiveCalibrationController {
     initial.fill_normal(mean_);
     mean_ *= std::sqrt(options_.initial_variance);
     covariance_ = CovarianceMatrix::Identity(d, d) * options_.initial_variance;
+    covariance_eigen_.compute(covariance_);  // sets the solver's `info`: copies may read it
     process_variance_ = options_.process_variance;
     const VectorX width = twin.upper_bounds() - twin.lower_bounds();
     max_probe_ = options_.max_probe_fraction * width;

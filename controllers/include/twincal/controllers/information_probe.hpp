@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -51,21 +52,21 @@ class InformationProbe {
     probe.setZero(d);
 
     // H^{1/2} and H^{+1/2} from H = V Λ Vᵀ, Λ clipped at 0 (a fitted H may be semi-definite).
-    hessian_eigen_.compute(H);
-    const double largest = std::max(hessian_eigen_.eigenvalues().maxCoeff(), 0.0);
+    hessian_eigen_->compute(H);
+    const double largest = std::max(hessian_eigen_->eigenvalues().maxCoeff(), 0.0);
     if (!(largest > 0.0)) return;  // the quality ignores the offset: nothing to learn, no cost
     for (Index i = 0; i < d; ++i) {
-      const double lambda = hessian_eigen_.eigenvalues()(i);
+      const double lambda = hessian_eigen_->eigenvalues()(i);
       const bool in_range = lambda > largest * 1e-12;
       root_(i) = in_range ? std::sqrt(lambda) : 0.0;
       inverse_root_(i) = in_range ? 1.0 / std::sqrt(lambda) : 0.0;
     }
-    const SquareMatrix<N>& V = hessian_eigen_.eigenvectors();
+    const SquareMatrix<N>& V = hessian_eigen_->eigenvectors();
     sqrt_h_.noalias() = V * root_.asDiagonal() * V.transpose();
     pinv_sqrt_h_.noalias() = V * inverse_root_.asDiagonal() * V.transpose();
     hp_.noalias() = P * sqrt_h_;
     s_.noalias() = sqrt_h_ * hp_;
-    s_eigen_.compute(s_);
+    s_eigen_->compute(s_);
 
     hp_.noalias() = H * P;
     const double trace_hp = hp_.trace();
@@ -87,7 +88,7 @@ class InformationProbe {
     flip_ = !flip_;
 
     for (Index k = d - 1; k >= 0; --k) {  // largest uncertainty cost first
-      q_.noalias() = pinv_sqrt_h_ * s_eigen_.eigenvectors().col(k);
+      q_.noalias() = pinv_sqrt_h_ * s_eigen_->eigenvectors().col(k);
       const double reach = q_.cwiseAbs().cwiseQuotient(context.max_probe).maxCoeff();
       if (!(reach > 0.0) || !std::isfinite(reach)) continue;
       // p = a q: b(a) = b0 + a b1 with b1 = −2 H q, cost(a) = a² qᵀHq + 2a gᵀq.
@@ -123,19 +124,19 @@ class InformationProbe {
 
  private:
   void resize(Index d) {
-    if (root_.size() == d) return;
-    if constexpr (N == Dynamic) {  // fixed sizes need no allocation (and no reassignment)
-      hessian_eigen_ = Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>(d);
-      s_eigen_ = Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>(d);
-    }
+    if (hessian_eigen_ && root_.size() == d) return;
+    // Constructed in place: a default-constructed Eigen solver leaves its `info` uninitialized,
+    // and copying or moving one reads it (UBSan), so the probe holds none until it is used.
+    hessian_eigen_.emplace(d);
+    s_eigen_.emplace(d);
     for (Vector<N>* v : {&root_, &inverse_root_, &b0_, &b1_, &pb0_, &pb1_, &hpb_, &q_}) {
       v->resize(d);
     }
     for (SquareMatrix<N>* m : {&sqrt_h_, &pinv_sqrt_h_, &s_, &hp_}) m->resize(d, d);
   }
 
-  Eigen::SelfAdjointEigenSolver<SquareMatrix<N>> hessian_eigen_;
-  Eigen::SelfAdjointEigenSolver<SquareMatrix<N>> s_eigen_;
+  std::optional<Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>> hessian_eigen_;
+  std::optional<Eigen::SelfAdjointEigenSolver<SquareMatrix<N>>> s_eigen_;
   Vector<N> root_, inverse_root_, b0_, b1_, pb0_, pb1_, hpb_, q_;
   SquareMatrix<N> sqrt_h_, pinv_sqrt_h_, s_, hp_;
   bool flip_ = false;
