@@ -7,9 +7,9 @@
 namespace twincal {
 namespace {
 
-// With g = 0 and a single uncertain direction, the design has a closed form: along that axis,
-// p = a q with qᵀHq = 1, cost a², gain(a) = A a² / (B a² + C) with A = 4 (qᵀHPHq)·(Hq)ᵀP(Hq)/… —
-// computed here directly from the definitions, and minimized over a on a fine grid.
+// With g = 0 and diagonal H and P, the best axis is the locator with the largest H_ii P_ii, and
+// the best amplitude along it minimizes the design's objective, cost(a) − T·gain(a), written
+// out below from its definition and minimized by brute force.
 TEST(InformationProbe, ProbesTheMostCostlyUncertainAxisWithTheClosedFormAmplitude) {
   const Eigen::Matrix3d hessian = Eigen::Vector3d(0.2, 0.1, 0.05).asDiagonal();
   const Eigen::Matrix3d covariance = Eigen::Vector3d(0.001, 0.01, 0.002).asDiagonal();

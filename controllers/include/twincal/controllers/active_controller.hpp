@@ -36,7 +36,6 @@
 #include <utility>
 
 #include <fmt/format.h>
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
@@ -51,13 +50,17 @@
 #include "twincal/controllers/quadratic_model.hpp"
 #include "twincal/controllers/quadratic_moments.hpp"
 #include "twincal/controllers/quadratic_surrogate.hpp"
+#include "twincal/core/cholesky.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/core/symmetrize.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/filters/measurement_preview.hpp"
 #include "twincal/filters/sigma_point_scheme.hpp"
 #include "twincal/filters/spherical_radial_sigma_points.hpp"
+#include "twincal/filters/unscented_transform.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -111,8 +114,6 @@ class ActiveCalibrationController {
     const VectorX width = twin.upper_bounds() - twin.lower_bounds();
     max_probe_ = options_.max_probe_fraction * width;
     covariance_ceiling_ = std::pow(options_.covariance_ceiling_fraction * width.minCoeff(), 2);
-    identity_ = CovarianceMatrix::Identity(d, d);
-    zero_gradient_ = ControlVector::Zero(d);
     probe_vector_.resize(d);
     control_.resize(d);
     check_points_.resize(d, 2);
@@ -123,6 +124,9 @@ class ActiveCalibrationController {
     covariance_weights_.resize(m);
     scheme_.weights(d, mean_weights_, covariance_weights_);
     points_.resize(d, m);
+    sigma_preview_.measurements.resize(m);
+    sigma_preview_.cross_covariance.resize(d);
+    sigma_preview_.gain.resize(d);
     shifted_.resize(d, m);
     point_values_.resize(m);
     gain_.resize(d);
@@ -149,37 +153,33 @@ class ActiveCalibrationController {
       try {
         evaluations += fit_model(assembly);
       } catch (const std::exception& error) {
-        report_.fallback = error.what();
-        quadratic_ = false;
+        report_.fallback = error.what();  // fit_model sets quadratic_ only once it succeeds
       }
       if (!quadratic_) retry_at_ = assemblies_ + options_.quadratic_retry;
     }
     ++assemblies_;
     step_.quadratic = quadratic_;
 
-    // The probe, priced by the quadratic model.
-    const SquareMatrix<N>& hessian = quadratic_ ? model_.hessian : identity_;
-    const double value = quadratic_ ? model_.value : u0.quality * u0.quality;
-    const double trace_h = hessian.trace();
-    const double refill = process_variance_ * trace_h;
-    const double uncertainty = (hessian.cwiseProduct(covariance_)).sum();  // tr(HP), H symmetric
-    step_.horizon = refill > 0.0 ? std::clamp(uncertainty / refill, 1.0, options_.max_horizon)
-                                 : options_.max_horizon;
-    if (!quadratic_) {
+    if (quadratic_) {
+      // The probe, priced by the model. T = tr(HP)/tr(HQ): the assemblies the random walk
+      // takes to add back the uncertainty there is now.
+      const double refill = process_variance_ * model_.hessian.trace();
+      const double uncertainty = model_.hessian.cwiseProduct(covariance_).sum();  // tr(HP)
+      step_.horizon = refill > 0.0 ? std::clamp(uncertainty / refill, 1.0, options_.max_horizon)
+                                   : options_.max_horizon;
+      const ProbeContext<N> context{.hessian = model_.hessian,
+                                    .half_gradient = model_.half_gradient,
+                                    .covariance = covariance_,
+                                    .value = model_.value,
+                                    .measurement_variance = options_.measurement_variance,
+                                    .horizon = step_.horizon,
+                                    .max_probe = max_probe_};
+      probe_.design(context, probe_vector_);
+    } else {
       // Without a model that holds, a probe cannot be priced: the controller is then the
       // default controller (eq. 9) with a sigma-point update. (Probing along P's axes with
       // H = I was measured to lose a RuggedTwin's offset.)
       probe_vector_.setZero();
-    } else {
-      const ProbeContext<N> context{
-          .hessian = hessian,
-          .half_gradient = quadratic_ ? model_.half_gradient : zero_gradient_,
-          .covariance = covariance_,
-          .value = value,
-          .measurement_variance = options_.measurement_variance,
-          .horizon = step_.horizon,
-          .max_probe = max_probe_};
-      probe_.design(context, probe_vector_);
     }
     step_.probe_norm = probe_vector_.norm();
     control_ = center_ + mean_ + probe_vector_;
@@ -240,8 +240,8 @@ class ActiveCalibrationController {
   std::uint64_t fit_model(const Assembly& assembly) {
     std::uint64_t evaluations = 0;
     for (int attempt = 0; attempt < 2; ++attempt) {
-      step_.hessian_refitted = step_.hessian_refitted || surrogate_.hessian_stale();
       const bool refit = surrogate_.hessian_stale();
+      step_.hessian_refitted = step_.hessian_refitted || refit;
       evaluations += surrogate_.fit(assembly, center_, model_);
       const Index d = dimension();
       for (Index i = 0; i < d; ++i) {
@@ -283,32 +283,18 @@ class ActiveCalibrationController {
     commit(innovation, variance, nis);
   }
 
+  // The unscented update of z (filters' measurement_statistics, as SigmaPointFilter's).
   void update_sigma_points(const Assembly& assembly, const ControlVector& control, double z) {
-    const Index d = dimension();
-    const Index m = points_.cols();
-    const Eigen::LLT<CovarianceMatrix> factor(covariance_);
-    if (factor.info() != Eigen::Success) {
-      throw NotPositiveDefiniteError("offset covariance",
-                                     fmt::format("offset covariance: cannot be factored for "
-                                                 "the sigma points; smallest eigenvalue {}",
-                                                 smallest_eigenvalue(covariance_)),
-                                     smallest_eigenvalue(covariance_));
-    }
-    scheme_.generate(mean_, factor.matrixL().toDenseMatrix(), points_);
+    const CholeskyResult<N> factor = cholesky(covariance_, {}, "offset covariance");
+    scheme_.generate(mean_, factor.factor.lower(), points_);
     shifted_ = (-points_).colwise() + control;  // u − χ_i
     twin_->quality_batch(assembly, shifted_, point_values_);
-    require_finite("twin quality at the sigma points", point_values_);
-    report_.quality_evaluations += static_cast<std::uint64_t>(m);
-    const double predicted = point_values_.dot(mean_weights_);
-    double variance = options_.measurement_variance;
-    gain_.setZero(d);
-    for (Index i = 0; i < m; ++i) {
-      const double deviation = point_values_(i) - predicted;
-      variance += covariance_weights_(i) * deviation * deviation;
-      gain_ += (covariance_weights_(i) * deviation) * (points_.col(i) - mean_);
-    }
-    gain_ /= variance;
-    const double innovation = z - predicted;
+    report_.quality_evaluations += static_cast<std::uint64_t>(points_.cols());
+    measurement_statistics(points_, mean_, mean_weights_, covariance_weights_, point_values_,
+                           options_.measurement_variance, sigma_preview_);
+    gain_ = sigma_preview_.gain;
+    const double innovation = z - sigma_preview_.predicted_measurement;
+    const double variance = sigma_preview_.innovation_variance;
     commit(innovation, variance, innovation * innovation / variance);
   }
 
@@ -316,7 +302,7 @@ class ActiveCalibrationController {
   void commit(double innovation, double variance, double nis) {
     mean_.noalias() += gain_ * innovation;
     covariance_.noalias() -= (gain_ * variance) * gain_.transpose();
-    covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+    symmetrize(covariance_);
     bound_covariance();
     step_.normalized_innovation = nis;
     // Adapt q: innovations larger than predicted (ν²/S > 1) mean the offset moved more than the
@@ -350,10 +336,8 @@ class ActiveCalibrationController {
   ControlVector mean_;
   CovarianceMatrix covariance_;
   double process_variance_ = 0.0;
-  VectorX max_probe_;
+  ControlVector max_probe_;  // the ProbeContext's type: no converted temporary per assembly
   double covariance_ceiling_ = 0.0;
-  CovarianceMatrix identity_;
-  ControlVector zero_gradient_;
   // Per-assembly state and workspaces, sized once.
   ControlVector center_;
   ControlVector probe_vector_;
@@ -365,9 +349,10 @@ class ActiveCalibrationController {
   Eigen::SelfAdjointEigenSolver<CovarianceMatrix> covariance_eigen_;
   VectorX mean_weights_;
   VectorX covariance_weights_;
-  MatrixX points_;
+  Matrix<N, Dynamic> points_;
   MatrixX shifted_;
   VectorX point_values_;
+  MeasurementPreview<N, Dynamic> sigma_preview_;
   ControlVector gain_;
   bool quadratic_ = false;
   bool pending_ = false;
