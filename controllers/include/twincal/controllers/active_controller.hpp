@@ -4,20 +4,21 @@
 /// `ActiveController<Twin, N>`: a controller that tracks the offset δu* of every locator at once
 /// and whose cost grows polynomially in d (docs/controllers.md, "Beyond the paper"). Per
 /// assembly x_t:
-///   1. u0(x_t), z*(x_t) (eq. 3) and the time update of the random walk (eq. 5c), P ← P + q·I;
+///   1. u0(x_t), z*(x_t) (eq. 3);
 ///   2. the twin's local model Q²(x_t, v) ≈ c + 2gᵀ(v − u0) + (v − u0)ᵀH(v − u0)
 ///      (QuadraticSurrogate: d + 1 evaluations, (d + 1)(d + 2)/2 when H is refitted), checked
 ///      against the twin at two points where it is about to be used;
-///   3. a known probe p (the Probe policy, InformationProbe by default: the principal axes of
-///      H^{1/2} P H^{1/2}, sized by information per unit of quality cost; p = 0 without a model
-///      that passed its check) and
-///      u_t = clip(u0 + δû + p) to the twin's locator bounds, so a lost estimate never drives the
-///      fixture outside its range;
-///   4. observe: the update with the exact Gaussian moments of z_t² under the quadratic model
-///      (quadratic_moments.hpp) — or, when the model failed its check (a twin that is not
-///      quadratic, e.g. RuggedTwin), a sigma-point update of z_t with the Scheme policy;
-///      then the guards: an innovation gate that inflates an overconfident P, process noise
-///      adapted to the normalized innovations, and a floor and a ceiling on P's eigenvalues.
+///   3. the estimate δû_t and its covariance P: while the model holds, from the moving-horizon
+///      estimator of a drifting offset (ConstantVelocityEstimator: the maximum a posteriori
+///      offset and velocity over the assemblies measured so far, each under its own model, with
+///      changes of velocity detected); otherwise from a random-walk filter (eq. 5c) updated with
+///      sigma points of the Scheme policy;
+///   4. a known probe p (the Probe policy, ThompsonProbe by default: a draw from N(0, s²P); p = 0
+///      without a model that passed its check) and u_t = clip(u0 + δû + p) to the twin's locator
+///      bounds, so a lost estimate never drives the fixture outside its range;
+///   5. observe: z_t joins the estimator's history (or updates the random-walk filter, with an
+///      innovation gate that inflates an overconfident P, process noise adapted to the
+///      normalized innovations, and a floor and a ceiling on P's eigenvalues).
 /// Twin evaluations per assembly: d + 3 (model and check), (d + 1)(d + 2)/2 + 2 on a refit, plus
 /// the sigma points in the fallback — O(d²), against the paper's O(2^d) candidates × sigma
 /// points.
@@ -40,6 +41,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "twincal/controllers/active_options.hpp"
+#include "twincal/controllers/constant_velocity_estimator.hpp"
 #include "twincal/controllers/controller.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/controllers/information_probe.hpp"
@@ -48,8 +50,8 @@
 #include "twincal/controllers/probe_design.hpp"
 #include "twincal/controllers/proposal_report.hpp"
 #include "twincal/controllers/quadratic_model.hpp"
-#include "twincal/controllers/quadratic_moments.hpp"
 #include "twincal/controllers/quadratic_surrogate.hpp"
+#include "twincal/controllers/thompson_probe.hpp"
 #include "twincal/core/cholesky.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -67,17 +69,19 @@ namespace twincal {
 
 /// What the active controller did for one assembly, beyond the ProposalReport.
 struct ActiveStepReport {
-  bool quadratic = false;              ///< updated with the quadratic model's exact moments
+  bool quadratic = false;              ///< estimated with the twin's quadratic model
   double model_error = 0.0;            ///< largest relative error of the model at the check points
   bool hessian_refitted = false;       ///< this assembly paid for a full fit of H
   double probe_norm = 0.0;             ///< |p|
   double horizon = 0.0;                ///< T of the probe design
-  double process_variance = 0.0;       ///< q used in this assembly's time update
-  double normalized_innovation = 0.0;  ///< ν²/S of the last update (after observe)
-  bool gated = false;                  ///< the last update inflated P at the innovation gate
+  double process_variance = 0.0;       ///< q of the random-walk filter (sigma-point mode)
+  double normalized_innovation = 0.0;  ///< ν²/S of z against its prediction (after observe)
+  bool gated = false;                  ///< the sigma-point update inflated P at the gate
+  bool velocity_change = false;        ///< the estimator declared a change of velocity
+  Index history = 0;                   ///< assemblies in the estimator's history
 };
 
-template <Twin T, int N = Dynamic, typename Probe = InformationProbe<N>,
+template <Twin T, int N = Dynamic, typename Probe = ThompsonProbe<N>,
           SigmaPointScheme Scheme = SphericalRadialSigmaPoints, Optimizer O = NloptOptimizer>
 requires ProbeDesign<Probe, N>
 class ActiveCalibrationController {
@@ -89,8 +93,10 @@ class ActiveCalibrationController {
   using CovarianceMatrix = SquareMatrix<N>;
 
   /// Starts from δû0 ~ N(0, initial_variance·I), drawn from `stream.substream("initial_offset")`
-  /// (as the paper's filters are, so controllers built from one stream start alike), and
-  /// P0 = initial_variance·I. Refers to `twin`, which must outlive the controller.
+  /// (as the paper's filters are, so controllers built from one stream start alike); the
+  /// estimator's prior is centred there with the spread of options.trajectory, the random-walk
+  /// filter's P0 = initial_variance·I. A probe with reseed() draws from stream.substream("probe").
+  /// Refers to `twin`, which must outlive the controller.
   /// @throws InvalidArgumentError (options, the twin's box), DimensionMismatchError (N and the
   ///         twin's d).
   ActiveCalibrationController(const T& twin, const RandomStream& stream, ActiveOptions options = {},
@@ -101,6 +107,8 @@ class ActiveCalibrationController {
         surrogate_(twin, options_.surrogate),
         probe_(std::move(probe)),
         scheme_(std::move(scheme)),
+        estimator_(twin.upper_bounds() - twin.lower_bounds(), options_.measurement_variance,
+                   options_.trajectory),
         covariance_eigen_(twin.control_dimension()) {
     const Index d = twin.control_dimension();
     if constexpr (N != Dynamic) require_dimension("twin.control_dimension()", d, N);
@@ -110,6 +118,8 @@ class ActiveCalibrationController {
     mean_ *= std::sqrt(options_.initial_variance);
     covariance_ = CovarianceMatrix::Identity(d, d) * options_.initial_variance;
     covariance_eigen_.compute(covariance_);  // sets the solver's `info`: copies may read it
+    estimator_.reset(0, mean_);
+    if constexpr (requires { probe_.reseed(stream); }) probe_.reseed(stream.substream("probe"));
     process_variance_ = options_.process_variance;
     const VectorX width = twin.upper_bounds() - twin.lower_bounds();
     max_probe_ = options_.max_probe_fraction * width;
@@ -117,8 +127,6 @@ class ActiveCalibrationController {
     probe_vector_.resize(d);
     control_.resize(d);
     check_points_.resize(d, 2);
-    moments_.cross_covariance.resize(d);
-    moments_work_.resize(d);
     const Index m = scheme_.num_points(d);
     mean_weights_.resize(m);
     covariance_weights_.resize(m);
@@ -142,10 +150,7 @@ class ActiveCalibrationController {
     report_.optimizer_evaluations = u0.evaluations;
 
     step_.process_variance = process_variance_;
-    covariance_.diagonal().array() += process_variance_;
-    bound_covariance();
     center_ = u0.control;
-    report_.default_control = center_ + mean_;
 
     quadratic_ = false;
     std::uint64_t evaluations = 0;
@@ -157,12 +162,23 @@ class ActiveCalibrationController {
       }
       if (!quadratic_) retry_at_ = assemblies_ + options_.quadratic_retry;
     }
-    ++assemblies_;
     step_.quadratic = quadratic_;
+    time_ = assemblies_++;
+    if (quadratic_) {
+      if (estimator_.fit_time() != time_) estimator_.fit(time_);
+      mean_ = estimator_.position();
+      covariance_ = estimator_.position_covariance();
+    } else {
+      covariance_.diagonal().array() += process_variance_;  // the random walk, eq. (5c)
+      bound_covariance();
+    }
+    step_.history = estimator_.history_size();
+    report_.default_control = center_ + mean_;
 
     if (quadratic_) {
-      // The probe, priced by the model. T = tr(HP)/tr(HQ): the assemblies the random walk
-      // takes to add back the uncertainty there is now.
+      // The probe, priced by the model. T = tr(HP)/tr(HQ) (for designs that price information,
+      // as InformationProbe): the assemblies a random walk of variance q takes to add back the
+      // uncertainty there is now.
       const double refill = process_variance_ * model_.hessian.trace();
       const double uncertainty = model_.hessian.cwiseProduct(covariance_).sum();  // tr(HP)
       step_.horizon = refill > 0.0 ? std::clamp(uncertainty / refill, 1.0, options_.max_horizon)
@@ -200,7 +216,7 @@ class ActiveCalibrationController {
     require_finite("z", z);
     require_finite("control", control);
     if (pending_ && quadratic_ && control == control_) {
-      update_quadratic(control, z);
+      update_estimator(control, z);
     } else {
       update_sigma_points(assembly, control, z);
     }
@@ -208,7 +224,8 @@ class ActiveCalibrationController {
   }
 
   /// Restarts the estimate at N(estimate, covariance) — a re-initialization from outside (a
-  /// measurement of the fixture, a least-squares fit over a history) — keeping q and the model.
+  /// measurement of the fixture, a least-squares fit over a history) — keeping q and the model;
+  /// the estimator forgets its history.
   /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError, with the state
   ///         unchanged.
   void restart(const ControlVector& estimate, const CovarianceMatrix& covariance) {
@@ -218,6 +235,7 @@ class ActiveCalibrationController {
     require_finite("covariance", covariance);
     require_symmetric("covariance", covariance);
     require_positive_definite("covariance", covariance);
+    estimator_.reset(assemblies_, estimate, covariance);
     mean_ = estimate;
     covariance_ = covariance;
     pending_ = false;
@@ -257,45 +275,49 @@ class ActiveCalibrationController {
     return evaluations;
   }
 
-  void update_quadratic(const ControlVector& control, double z) {
-    const double sigma2 = options_.measurement_variance;
-    quadratic_measurement_moments(model_, control, mean_, covariance_, moments_work_, moments_);
-    // z = Q + N(0, σz²): E[z²] = E[Q²] + σz², Var(z²) = Var(Q²) + 4 E[Q²] σz² + 2 σz⁴.
-    const auto innovation_of = [&](double& variance) {
-      const double expected = std::max(moments_.mean, 0.0);
-      variance = moments_.variance + 4.0 * expected * sigma2 + 2.0 * sigma2 * sigma2;
-      return z * z - (moments_.mean + sigma2);
-    };
-    double variance = 0.0;
-    double innovation = innovation_of(variance);
-    const double nis = innovation * innovation / variance;
-    const double gate2 = options_.innovation_gate * options_.innovation_gate;
-    step_.gated = nis > gate2;
-    if (step_.gated) {
-      // Overconfident: widen P by how far the innovation is beyond the gate, then update. (A
-      // rank-one widening along the measured direction only was measured worse at d = 12: the
-      // error there is spread over every direction, not just the one measured.)
-      covariance_ *= nis / gate2;
-      quadratic_measurement_moments(model_, control, mean_, covariance_, moments_work_, moments_);
-      innovation = innovation_of(variance);
-    }
-    gain_ = moments_.cross_covariance / variance;
-    commit(innovation, variance, nis);
+  // The estimator's update: z joins the history, and the estimate moves to the next assembly.
+  void update_estimator(const ControlVector& control, double z) {
+    step_.normalized_innovation = estimator_.add(time_, model_, control, z);
+    estimator_.fit(time_ + 1);
+    step_.velocity_change = estimator_.changed();
+    step_.history = estimator_.history_size();
+    mean_ = estimator_.position();
+    covariance_ = estimator_.position_covariance();
   }
 
   // The unscented update of z (filters' measurement_statistics, as SigmaPointFilter's).
   void update_sigma_points(const Assembly& assembly, const ControlVector& control, double z) {
     const CholeskyResult<N> factor = cholesky(covariance_, {}, "offset covariance");
-    scheme_.generate(mean_, factor.factor.lower(), points_);
+    sigma_point_statistics(assembly, control, factor.factor.lower(), 1.0);
+    double innovation = z - sigma_preview_.predicted_measurement;
+    double variance = sigma_preview_.innovation_variance;
+    const double nis = innovation * innovation / variance;
+    const double gate2 = options_.innovation_gate * options_.innovation_gate;
+    step_.gated = nis > gate2;
+    if (step_.gated) {
+      // Overconfident: the update runs from P widened by how far ν is beyond the gate (the
+      // widened points cost one more batch; P changes only once it succeeded).
+      const double widening = nis / gate2;
+      sigma_point_statistics(assembly, control, factor.factor.lower(), std::sqrt(widening));
+      covariance_ *= widening;
+      innovation = z - sigma_preview_.predicted_measurement;
+      variance = sigma_preview_.innovation_variance;
+    }
+    gain_ = sigma_preview_.gain;
+    commit(innovation, variance, nis);
+  }
+
+  // The sigma points of N(δû, (scale L)(scale L)ᵀ) through the twin at `control`.
+  template <typename Lower>
+  void sigma_point_statistics(const Assembly& assembly, const ControlVector& control,
+                              const Lower& lower, double scale) {
+    scheme_.generate(mean_, lower, points_);
+    if (scale != 1.0) points_ = ((points_.colwise() - mean_) * scale).colwise() + mean_;
     shifted_ = (-points_).colwise() + control;  // u − χ_i
     twin_->quality_batch(assembly, shifted_, point_values_);
     report_.quality_evaluations += static_cast<std::uint64_t>(points_.cols());
     measurement_statistics(points_, mean_, mean_weights_, covariance_weights_, point_values_,
                            options_.measurement_variance, sigma_preview_);
-    gain_ = sigma_preview_.gain;
-    const double innovation = z - sigma_preview_.predicted_measurement;
-    const double variance = sigma_preview_.innovation_variance;
-    commit(innovation, variance, innovation * innovation / variance);
   }
 
   // x⁺ = x + K ν, P⁺ = P − K S Kᵀ, then the guards.
@@ -333,6 +355,7 @@ class ActiveCalibrationController {
   QuadraticSurrogate<T, N> surrogate_;
   Probe probe_;
   Scheme scheme_;
+  ConstantVelocityEstimator<N> estimator_;
   ControlVector mean_;
   CovarianceMatrix covariance_;
   double process_variance_ = 0.0;
@@ -344,8 +367,6 @@ class ActiveCalibrationController {
   ControlVector control_;
   MatrixX check_points_;
   QuadraticModel<N> model_;
-  QuadraticMomentsWorkspace<N> moments_work_;
-  QuadraticMeasurementMoments<N> moments_;
   Eigen::SelfAdjointEigenSolver<CovarianceMatrix> covariance_eigen_;
   VectorX mean_weights_;
   VectorX covariance_weights_;
@@ -357,6 +378,7 @@ class ActiveCalibrationController {
   bool quadratic_ = false;
   bool pending_ = false;
   Index assemblies_ = 0;
+  Index time_ = 0;  // the assembly of the pending proposal
   Index retry_at_ = 0;
   ProposalReport report_;
   ActiveStepReport step_;

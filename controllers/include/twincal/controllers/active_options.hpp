@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "twincal/controllers/constant_velocity_options.hpp"
 #include "twincal/controllers/quadratic_surrogate.hpp"
 #include "twincal/core/eigen.hpp"
 
@@ -20,8 +21,12 @@ struct ActiveOptions {
   double measurement_variance = 1e-4;
   /// δû0 ~ N(0, initial_variance·I) and P0 = initial_variance·I (the paper's 1e-3).
   double initial_variance = 1e-3;
-  /// Process noise of the random walk, Σu = q·I (eq. 5c): q starts here and adapts online to the
-  /// normalized innovations, within [min_process_variance, max_process_variance].
+  /// The moving-horizon estimator of the drifting offset, used while the twin's quadratic model
+  /// holds (constant_velocity_estimator.hpp).
+  ConstantVelocityOptions trajectory{};
+  /// For the sigma-point mode (a twin whose quadratic model fails its check): process noise of
+  /// the random walk, Σu = q·I (eq. 5c): q starts here and adapts online to the normalized
+  /// innovations, within [min_process_variance, max_process_variance].
   double process_variance = 1e-4;
   double min_process_variance = 1e-8;
   double max_process_variance = 1e-2;
@@ -31,8 +36,8 @@ struct ActiveOptions {
   double max_horizon = 100.0;
   /// Largest probe per locator, as a fraction of the twin's box width there.
   double max_probe_fraction = 0.25;
-  /// Normalized-innovation gate: |ν|/√S above it means the filter is overconfident; P is
-  /// inflated by (ν²/S)/gate² before the update.
+  /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
+  /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;
   /// Bounds on P's eigenvalues: floor (absolute) and ceiling ((fraction · smallest box width)²).
   double covariance_floor = 1e-12;
@@ -80,6 +85,7 @@ struct ActiveOptions {
       return fmt::format("quadratic_retry is {}; it must be >= 1", quadratic_retry);
     }
     if (auto problem = surrogate.validate()) return "surrogate." + *problem;
+    if (auto problem = trajectory.validate()) return "trajectory." + *problem;
     return std::nullopt;
   }
 };

@@ -1,0 +1,505 @@
+#pragma once
+/// @file
+/// `ConstantVelocityEstimator<N>`: a moving-horizon estimate of a drifting offset δu from the
+/// assemblies measured so far, for the active controller (active_controller.hpp).
+///
+/// Model. Over the history the offset moves with a constant velocity,
+///   δu_k = a + (k − t) b,
+/// a the offset at the assembly t being estimated and b its velocity per assembly (the paper's
+/// drift, eq. (15), is piecewise of this form). Assembly k was measured at control u_k with the
+/// twin's local model Q²(x_k, v) ≈ c_k + 2 g_kᵀ(v − u0_k) + (v − u0_k)ᵀ H_k (v − u0_k)
+/// (quadratic_model.hpp); the plant measures z_k = Q(x_k, u_k − δu_k) + N(0, σz²) (eq. 5b), so
+///   z_k ≈ m_k(a, b) = sqrt(c_k + 2 g_kᵀ r_k + r_kᵀ H_k r_k),   r_k = u_k − u0_k − δu_k.
+/// The estimate is the maximum a posteriori (a, b) under a Gaussian prior, found by Gauss–Newton
+/// with step halving, and its covariance the inverse of the Gauss–Newton matrix there (Laplace).
+/// Unlike a random-walk filter, it follows a drift without lag: with consistent data the estimate
+/// converges to the drift as the data outweigh the prior, whatever σz² is assumed.
+///
+/// Change of velocity. When the last `change_window` residuals under the fit are beyond
+/// `change_gate` (root mean square, normalized by σz), the velocity has changed: the fit
+/// restarts from the estimate it made `change_lag` assemblies ago (the change could not bias it
+/// then), with a prior that widens the offset and the velocity along the old velocity's line,
+/// and keeps only the assemblies measured since.
+///
+/// Local minima. A scalar quality is symmetric in the error r_k: a fit warm-started from the last
+/// estimate that explains the data badly is also started from its mirror image and from the
+/// prior mean, and the best of the three is kept.
+///
+/// Cost per fit: O(n (2d)²) per iteration for n assemblies in the history, plus O(d³) solves;
+/// no allocation after construction (the history is a ring of `max_history` assemblies).
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+
+#include "twincal/controllers/constant_velocity_options.hpp"
+#include "twincal/controllers/quadratic_model.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
+#include "twincal/core/symmetrize.hpp"
+#include "twincal/core/validate.hpp"
+
+namespace twincal {
+
+template <int N = Dynamic>
+class ConstantVelocityEstimator {
+ public:
+  static constexpr int state_size = N == Dynamic ? Dynamic : 2 * N;
+  using OffsetVector = Vector<N>;
+  using OffsetMatrix = SquareMatrix<N>;
+  using StateVector = Vector<state_size>;
+  using StateMatrix = SquareMatrix<state_size>;
+
+  /// An estimator for offsets in a box of widths `box_width` (entries > 0), measured with
+  /// variance `measurement_variance` (σz² of z). Call reset() before the first fit.
+  /// @throws InvalidArgumentError (options, widths, variance), DimensionMismatchError.
+  ConstantVelocityEstimator(const VectorX& box_width, double measurement_variance,
+                            const ConstantVelocityOptions& options = {})
+      : options_((require_valid("ConstantVelocityOptions", options), options)),
+        measurement_variance_(measurement_variance),
+        width_(box_width),
+        factor_(2 * box_width.size()),
+        hessian_eigen_(box_width.size()),
+        state_eigen_(2 * box_width.size()) {
+    require_finite("box_width", width_);
+    if (!(width_.size() > 0) || !(width_.minCoeff() > 0.0)) {
+      throw InvalidArgumentError("box_width",
+                                 "box_width: rule: must have entries, all > 0 (the control box)");
+    }
+    require_finite("measurement_variance", measurement_variance_);
+    require_positive("measurement_variance", measurement_variance_);
+    const Index d = width_.size();
+    if constexpr (N != Dynamic) require_dimension("box_width", d, N);
+    const Index s = 2 * d;
+    const Index capacity = options_.max_history;
+    times_.assign(static_cast<std::size_t>(capacity), 0);
+    controls_.resize(d, capacity);
+    values_.resize(capacity);
+    half_gradients_.resize(d, capacity);
+    hessians_.resize(d, d * capacity);
+    qualities_.resize(capacity);
+    const Index lags = options_.change_lag + 1;
+    snapshot_times_.assign(static_cast<std::size_t>(lags), 0);
+    snapshot_states_.resize(s, lags);
+    snapshot_covariances_.resize(d, d * lags);
+    prior_mean_.resize(s);
+    prior_covariance_.resize(s, s);
+    state_.setZero(s);
+    covariance_.setIdentity(s, s);
+    shift_.setIdentity(s, s);
+    shifted_mean_.resize(s);
+    shifted_covariance_.resize(s, s);
+    prior_precision_.resize(s, s);
+    identity_ = StateMatrix::Identity(s, s);
+    trial_.resize(s);
+    best_.resize(s);
+    start_.resize(s);
+    step_.resize(s);
+    gradient_.resize(s);
+    difference_.resize(s);
+    weighted_difference_.resize(s);
+    normal_.resize(s, s);
+    jacobian_.resize(capacity, s);
+    residuals_.resize(capacity);
+    error_.resize(d);
+    curvature_error_.resize(d);
+    slope_.resize(d);
+    velocity_.resize(d);
+    position_.resize(d);
+    position_covariance_.resize(d, d);
+    prior_scale_.resize(s);
+  }
+
+  [[nodiscard]] Index dimension() const noexcept { return width_.size(); }
+  [[nodiscard]] const ConstantVelocityOptions& options() const noexcept { return options_; }
+  /// Assemblies in the history.
+  [[nodiscard]] Index history_size() const noexcept { return size_; }
+  /// Changes of velocity declared so far, and whether the last fit declared one.
+  [[nodiscard]] Index changes() const noexcept { return changes_; }
+  [[nodiscard]] bool changed() const noexcept { return changed_; }
+  /// The assembly the last fit estimated, and its (a, b) and covariance.
+  [[nodiscard]] Index fit_time() const noexcept { return fit_time_; }
+  [[nodiscard]] const StateVector& state() const noexcept { return state_; }
+  [[nodiscard]] const StateMatrix& covariance() const noexcept { return covariance_; }
+  /// a, the offset at fit_time(), and its covariance.
+  [[nodiscard]] const OffsetVector& position() const noexcept { return position_; }
+  [[nodiscard]] const OffsetMatrix& position_covariance() const noexcept {
+    return position_covariance_;
+  }
+
+  /// Forgets the history and starts from δu ~ N(position, position_covariance) at `time`, with
+  /// a velocity ~ N(0, (velocity_fraction · width)²) per locator.
+  /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError; state unchanged.
+  void reset(Index time, const OffsetVector& position, const OffsetMatrix& position_covariance) {
+    const Index d = dimension();
+    require_dimension("position", position.size(), d);
+    require_finite("position", position);
+    require_shape("position_covariance", position_covariance, d, d);
+    require_positive_definite("position_covariance", position_covariance);
+    prior_mean_.head(d) = position;
+    prior_mean_.tail(d).setZero();
+    prior_covariance_.setZero();
+    prior_covariance_.topLeftCorner(d, d) = position_covariance;
+    prior_covariance_.diagonal().tail(d) =
+        (options_.velocity_fraction * width_).array().square().matrix();
+    prior_time_ = time;
+    size_ = 0;
+    head_ = 0;
+    snapshots_ = 0;
+    changes_ = 0;
+    changed_ = false;
+    fitted_ = false;
+    fit(time);
+  }
+
+  /// reset() with δu ~ N(position, (position_fraction · width)²) per locator.
+  void reset(Index time, const OffsetVector& position) {
+    const Index d = dimension();
+    OffsetMatrix covariance = OffsetMatrix::Zero(d, d);
+    covariance.diagonal() = (options_.position_fraction * width_).array().square().matrix();
+    reset(time, position, covariance);
+  }
+
+  /// Adds assembly `time` (≥ every time in the history), measured at `control` with quality z
+  /// under `model`, to the history. Returns the normalized innovation ν²/S of z against the
+  /// estimate at `time` before it (fitted first if it is not the last fit).
+  /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError (time); state unchanged.
+  double add(Index time, const QuadraticModel<N>& model, const OffsetVector& control, double z) {
+    const Index d = dimension();
+    require_dimension("control", control.size(), d);
+    require_dimension("model", model.dimension(), d);
+    require_finite("control", control);
+    require_finite("z", z);
+    if (size_ > 0 && time < time_of(size_ - 1)) {
+      throw InvalidArgumentError(
+          "time", fmt::format("time: value is {}; rule: must be >= the last time in the history, "
+                              "{}",
+                              time, time_of(size_ - 1)));
+    }
+    if (!fitted_ || fit_time_ != time) fit(time);
+
+    if (size_ == options_.max_history) {  // the oldest assembly leaves the ring
+      head_ = (head_ + 1) % options_.max_history;
+      --size_;
+    }
+    const Index i = slot(size_);
+    times_[static_cast<std::size_t>(i)] = time;
+    controls_.col(i) = control - model.center;
+    values_(i) = model.value;
+    half_gradients_.col(i) = model.half_gradient;
+    // H as fitted may have tiny negative eigenvalues (finite differences along directions the
+    // quality ignores); along them the fit would run away, so they are clipped at 0.
+    hessian_eigen_.compute(model.hessian);
+    if (hessian_eigen_.eigenvalues().minCoeff() < 0.0) {
+      hessians_.middleCols(i * d, d).noalias() =
+          hessian_eigen_.eigenvectors() *
+          hessian_eigen_.eigenvalues().cwiseMax(0.0).asDiagonal() *
+          hessian_eigen_.eigenvectors().transpose();
+    } else {
+      hessians_.middleCols(i * d, d) = model.hessian;
+    }
+    qualities_(i) = z;
+    ++size_;
+
+    // The innovation of z against the prediction at `time` (a = position_, τ = 0).
+    const double residual = residual_at(size_ - 1, state_, time);
+    curvature_error_.noalias() = position_covariance_ * slope_;
+    const double variance = measurement_variance_ + slope_.dot(curvature_error_);
+    return residual * residual / variance;
+  }
+
+  /// The estimate at assembly `time` from the prior and the history (see the file comment).
+  void fit(Index time) {
+    const Index d = dimension();
+    changed_ = false;
+    shift_prior(time);
+    // Warm start: the last estimate moved to `time` with its velocity.
+    if (fitted_) {
+      start_ = state_;
+      start_.head(d) += static_cast<double>(time - fit_time_) * state_.tail(d);
+    } else {
+      start_ = shifted_mean_;
+    }
+    double cost = solve(start_, time, best_);
+    if (data_cost_ > static_cast<double>(size_) * options_.change_gate * options_.change_gate) {
+      // The warm start explains the data badly: also try its mirror image and the prior mean.
+      for (int candidate = 0; candidate < 2; ++candidate) {
+        if (candidate == 0) {
+          start_ = -start_;
+        } else {
+          start_ = shifted_mean_;
+        }
+        const double candidate_cost = solve(start_, time, trial_);
+        if (candidate_cost < cost) {
+          cost = candidate_cost;
+          best_ = trial_;
+        }
+      }
+    }
+    if (size_ > options_.change_window + 2 && recent_misfit(best_, time)) {
+      restart_at_change(time);
+      start_ = best_;
+      solve(start_, time, best_);
+      changed_ = true;
+      ++changes_;
+    }
+    state_ = best_;
+    finish(time);
+  }
+
+ private:
+  [[nodiscard]] Index slot(Index i) const noexcept {
+    return (head_ + i) % options_.max_history;
+  }
+  [[nodiscard]] Index time_of(Index i) const noexcept {
+    return times_[static_cast<std::size_t>(slot(i))];
+  }
+
+  // The prior moved from prior_time_ to `time` along the constant velocity: θ_t = M θ_p with
+  // M = [I, Δ I; 0, I], Σ_t = M Σ_p Mᵀ, and its precision.
+  void shift_prior(Index time) {
+    const Index d = dimension();
+    const double delta = static_cast<double>(time - prior_time_);
+    shift_.topRightCorner(d, d).diagonal().setConstant(delta);
+    shifted_mean_.noalias() = shift_ * prior_mean_;
+    normal_.noalias() = shift_ * prior_covariance_;
+    shifted_covariance_.noalias() = normal_ * shift_.transpose();
+    symmetrize(shifted_covariance_);
+    cap_prior();
+    factor_.compute(shifted_covariance_);
+    prior_precision_ = factor_.solve(identity_);
+    symmetrize(prior_precision_);
+  }
+
+  // The prior never claims more uncertainty than the start's: in units of the start's standard
+  // deviations (position_fraction · width, velocity_fraction · width) its eigenvalues are capped
+  // at 1. Without the cap, directions the quality barely sees (a door's H has rank ≈ 3) would
+  // let the velocity's uncertainty grow the offset's without bound, and the probes with it.
+  void cap_prior() {
+    const Index d = dimension();
+    prior_scale_.head(d) = options_.position_fraction * width_;
+    prior_scale_.tail(d) = options_.velocity_fraction * width_;
+    const bool beyond =
+        (shifted_covariance_.diagonal().array() > prior_scale_.array().square()).any();
+    if (!beyond) return;
+    normal_ = prior_scale_.cwiseInverse().asDiagonal() * shifted_covariance_ *
+              prior_scale_.cwiseInverse().asDiagonal();
+    state_eigen_.compute(normal_);
+    normal_.noalias() = state_eigen_.eigenvectors() *
+                        state_eigen_.eigenvalues().cwiseMin(1.0).asDiagonal() *
+                        state_eigen_.eigenvectors().transpose();
+    shifted_covariance_ =
+        prior_scale_.asDiagonal() * normal_ * prior_scale_.asDiagonal();
+  }
+
+  // z − m for history entry i (r = v − a − τ b); writes slope_ = ∂m/∂a. A non-positive model
+  // value (a fitted H may be indefinite) is clamped, with a zero slope.
+  double residual_at(Index i, const StateVector& state, Index time) {
+    const Index d = dimension();
+    const Index s = slot(i);
+    const double tau = static_cast<double>(times_[static_cast<std::size_t>(s)] - time);
+    error_ = controls_.col(s) - state.head(d) - tau * state.tail(d);
+    curvature_error_.noalias() = hessians_.middleCols(s * d, d) * error_;
+    const double squared = values_(s) + 2.0 * half_gradients_.col(s).dot(error_) +
+                           error_.dot(curvature_error_);
+    const double floor = 1e-12 * (1.0 + std::abs(values_(s)));
+    if (squared > floor) {
+      const double model = std::sqrt(squared);
+      slope_ = -(half_gradients_.col(s) + curvature_error_) / model;
+      return qualities_(s) - model;
+    }
+    slope_.setZero();
+    return qualities_(s) - std::sqrt(floor);
+  }
+
+  // Residuals and Jacobian of the history at `state`; returns the data cost Σ e²/σz².
+  double evaluate(const StateVector& state, Index time, bool jacobian) {
+    const Index d = dimension();
+    double cost = 0.0;
+    for (Index i = 0; i < size_; ++i) {
+      const double e = residual_at(i, state, time);
+      residuals_(i) = e;
+      cost += e * e;
+      if (jacobian) {
+        const double tau = static_cast<double>(time_of(i) - time);
+        jacobian_.row(i).head(d) = slope_.transpose();
+        jacobian_.row(i).tail(d) = tau * slope_.transpose();
+      }
+    }
+    return cost / measurement_variance_;
+  }
+
+  // Gauss–Newton with step halving from `start`; writes the minimizer to `out` and returns the
+  // total cost (data_cost_ keeps its data part). normal_ holds the Gauss–Newton matrix there.
+  double solve(const StateVector& start, Index time, StateVector& out) {
+    out = start;
+    double data = evaluate(out, time, true);
+    double cost = data + prior_cost(out);
+    for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
+      assemble(out);
+      step_ = factor_.solve(gradient_);
+      double scale = 1.0;
+      bool improved = false;
+      for (int halving = 0; halving < 10 && !improved; ++halving) {
+        if (halving > 0) scale *= 0.5;
+        trial_ = out + scale * step_;
+        const double trial_data = evaluate(trial_, time, false);
+        const double trial_cost = trial_data + prior_cost(trial_);
+        if (trial_cost <= cost) {
+          improved = true;
+          data = trial_data;
+          cost = trial_cost;
+        }
+      }
+      if (!improved) break;
+      out = trial_;
+      evaluate(out, time, true);
+      if (scale * step_.norm() <= options_.step_tolerance * (1.0 + out.norm())) break;
+    }
+    evaluate(out, time, true);
+    assemble(out);
+    data_cost_ = data;
+    return cost;
+  }
+
+  double prior_cost(const StateVector& state) {
+    difference_ = state - shifted_mean_;
+    weighted_difference_.noalias() = prior_precision_ * difference_;
+    return difference_.dot(weighted_difference_);
+  }
+
+  // normal_ = JᵀJ/σz² + Λ, gradient_ = Jᵀe/σz² − Λ(θ − μ), factored; needs evaluate(·, true).
+  void assemble(const StateVector& state) {
+    const Index n = size_;
+    normal_ = prior_precision_;
+    normal_.noalias() += jacobian_.topRows(n).transpose() * jacobian_.topRows(n) /
+                         measurement_variance_;
+    prior_cost(state);
+    gradient_ = -weighted_difference_;
+    gradient_.noalias() += jacobian_.topRows(n).transpose() * residuals_.head(n) /
+                           measurement_variance_;
+    factor_.compute(normal_);
+  }
+
+  // The root-mean-square normalized residual of the last change_window assemblies beyond the
+  // gate.
+  bool recent_misfit(const StateVector& state, Index time) {
+    const Index window = options_.change_window;
+    double sum = 0.0;
+    for (Index i = size_ - window; i < size_; ++i) {
+      const double e = residual_at(i, state, time);
+      sum += e * e;
+    }
+    const double mean = sum / (static_cast<double>(window) * measurement_variance_);
+    return mean > options_.change_gate * options_.change_gate;
+  }
+
+  // A change of velocity: the prior becomes the estimate of change_lag fits ago, widened along
+  // its velocity's line, and the history keeps the assemblies measured since.
+  void restart_at_change(Index time) {
+    const Index d = dimension();
+    const Index lags = options_.change_lag + 1;
+    // The oldest snapshot kept is change_lag fits ago (or the first, early on).
+    const Index oldest = snapshots_ < lags ? 0 : snapshots_ % lags;
+    const Index restart_time = snapshot_times_[static_cast<std::size_t>(oldest)];
+    velocity_ = snapshot_states_.col(oldest).tail(d);
+    prior_mean_.head(d) = snapshot_states_.col(oldest).head(d);
+    prior_mean_.tail(d).setZero();
+    prior_covariance_.setZero();
+    prior_covariance_.topLeftCorner(d, d) =
+        snapshot_covariances_.middleCols(oldest * d, d) +
+        options_.change_position_spread * velocity_ * velocity_.transpose();
+    prior_covariance_.bottomRightCorner(d, d) =
+        options_.change_velocity_spread * velocity_ * velocity_.transpose();
+    prior_covariance_.diagonal().tail(d) +=
+        (options_.change_velocity_floor_fraction * width_).array().square().matrix();
+    prior_time_ = restart_time;
+    while (size_ > 0 && time_of(0) < restart_time) {
+      head_ = (head_ + 1) % options_.max_history;
+      --size_;
+    }
+    shift_prior(time);
+  }
+
+  // The covariance (the inverse Gauss–Newton matrix at state_), the position and a snapshot.
+  void finish(Index time) {
+    const Index d = dimension();
+    evaluate(state_, time, true);  // the Gauss–Newton matrix at the kept candidate
+    assemble(state_);
+    covariance_ = factor_.solve(identity_);
+    symmetrize(covariance_);
+    position_ = state_.head(d);
+    position_covariance_ = covariance_.topLeftCorner(d, d);
+    fit_time_ = time;
+    fitted_ = true;
+    const Index lags = options_.change_lag + 1;
+    const Index i = snapshots_ % lags;
+    snapshot_times_[static_cast<std::size_t>(i)] = time;
+    snapshot_states_.col(i) = state_;
+    snapshot_covariances_.middleCols(i * d, d) = position_covariance_;
+    ++snapshots_;
+  }
+
+  ConstantVelocityOptions options_;
+  double measurement_variance_;
+  VectorX width_;
+  // The history, a ring of max_history assemblies starting at head_.
+  std::vector<Index> times_;
+  Matrix<N, Dynamic> controls_;  // u_k − u0_k
+  VectorX values_;
+  Matrix<N, Dynamic> half_gradients_;
+  Matrix<N, Dynamic> hessians_;  // d × d blocks side by side
+  VectorX qualities_;
+  Index head_ = 0;
+  Index size_ = 0;
+  // The estimates of the last change_lag + 1 fits.
+  std::vector<Index> snapshot_times_;
+  Matrix<state_size, Dynamic> snapshot_states_;
+  Matrix<N, Dynamic> snapshot_covariances_;
+  Index snapshots_ = 0;
+  // The prior, at prior_time_.
+  StateVector prior_mean_;
+  StateMatrix prior_covariance_;
+  Index prior_time_ = 0;
+  // The estimate.
+  StateVector state_;
+  StateMatrix covariance_;
+  OffsetVector position_;
+  OffsetMatrix position_covariance_;
+  Index fit_time_ = 0;
+  bool fitted_ = false;
+  Index changes_ = 0;
+  bool changed_ = false;
+  double data_cost_ = 0.0;
+  // Workspaces, sized once.
+  StateMatrix shift_;
+  StateVector shifted_mean_;
+  StateMatrix shifted_covariance_;
+  StateMatrix prior_precision_;
+  StateMatrix identity_;
+  StateVector trial_;
+  StateVector best_;
+  StateVector start_;
+  StateVector step_;
+  StateVector gradient_;
+  StateVector difference_;
+  StateVector weighted_difference_;
+  StateMatrix normal_;
+  Matrix<Dynamic, state_size> jacobian_;
+  VectorX residuals_;
+  OffsetVector error_;
+  OffsetVector curvature_error_;
+  OffsetVector slope_;
+  OffsetVector velocity_;
+  Eigen::LDLT<StateMatrix> factor_;
+  Eigen::SelfAdjointEigenSolver<OffsetMatrix> hessian_eigen_;
+  StateVector prior_scale_;
+  Eigen::SelfAdjointEigenSolver<StateMatrix> state_eigen_;
+};
+
+}  // namespace twincal

@@ -1,0 +1,77 @@
+#pragma once
+/// @file
+/// `ConstantVelocityOptions`: the settings of the moving-horizon estimator of a drifting offset
+/// (constant_velocity_estimator.hpp). Scales are fractions of the twin's box width, so one set
+/// serves every twin.
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "twincal/core/eigen.hpp"
+
+namespace twincal {
+
+struct ConstantVelocityOptions {
+  /// Prior standard deviation of the offset at the start, per locator, / box width.
+  double position_fraction = 0.5;
+  /// Prior standard deviation of the offset's velocity (per assembly), per locator, / box width.
+  double velocity_fraction = 0.05;
+  /// A change of velocity is declared when the root-mean-square normalized residual of the last
+  /// `change_window` assemblies under the fit exceeds `change_gate`.
+  double change_gate = 3.0;
+  Index change_window = 2;
+  /// At a change the fit restarts from its estimate of `change_lag` assemblies ago (before the
+  /// change could bias it), keeping only the assemblies measured since then.
+  Index change_lag = 6;
+  /// At a change the restart prior widens the offset by change_position_spread · b bᵀ and gives
+  /// the velocity change_velocity_spread · b bᵀ + (change_velocity_floor_fraction · width)² I, b
+  /// the velocity then estimated: a drift tends to keep its line and may turn back on it.
+  double change_position_spread = 9.0;
+  double change_velocity_spread = 4.0;
+  double change_velocity_floor_fraction = 5e-4;
+  /// The longest history kept (assemblies); older ones are dropped.
+  Index max_history = 128;
+  /// Gauss–Newton iterations per fit, and the relative step at which they stop.
+  int max_iterations = 20;
+  double step_tolerance = 1e-10;
+
+  [[nodiscard]] std::optional<std::string> validate() const {
+    const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
+    if (!positive(position_fraction) || !positive(velocity_fraction)) {
+      return fmt::format(
+          "position_fraction and velocity_fraction are {} and {}; both must be finite and > 0",
+          position_fraction, velocity_fraction);
+    }
+    if (!positive(change_gate)) {
+      return fmt::format("change_gate is {}; it must be finite and > 0", change_gate);
+    }
+    if (change_window < 1 || change_lag < change_window) {
+      return fmt::format(
+          "change_window and change_lag are {} and {}; rule: 1 <= change_window <= change_lag",
+          change_window, change_lag);
+    }
+    if (!(change_position_spread >= 0.0) || !(change_velocity_spread >= 0.0) ||
+        !positive(change_velocity_floor_fraction) || !std::isfinite(change_position_spread) ||
+        !std::isfinite(change_velocity_spread)) {
+      return fmt::format(
+          "change_position_spread, change_velocity_spread and change_velocity_floor_fraction are "
+          "{}, {} and {}; rule: finite, the spreads >= 0 and the floor > 0",
+          change_position_spread, change_velocity_spread, change_velocity_floor_fraction);
+    }
+    if (max_history <= change_lag) {
+      return fmt::format("max_history is {}; rule: must be > change_lag = {}", max_history,
+                         change_lag);
+    }
+    if (max_iterations < 1 || !positive(step_tolerance)) {
+      return fmt::format(
+          "max_iterations and step_tolerance are {} and {}; rule: >= 1 and finite > 0",
+          max_iterations, step_tolerance);
+    }
+    return std::nullopt;
+  }
+};
+
+}  // namespace twincal
