@@ -59,6 +59,7 @@ TEST(ConstantVelocityEstimator, FollowsAConstantVelocityDriftWithoutLag) {
   EXPECT_LT((estimator.state().tail(3) - velocity).norm(), 1e-3);
   EXPECT_EQ(estimator.changes(), 0);
   EXPECT_EQ(estimator.history_size(), 30);
+  EXPECT_TRUE(estimator.significant());
   // The covariance is the inverse Gauss–Newton matrix: symmetric positive definite.
   EXPECT_TRUE(estimator.covariance().isApprox(estimator.covariance().transpose()));
   EXPECT_GT(estimator.covariance().ldlt().vectorD().minCoeff(), 0.0);
@@ -82,6 +83,22 @@ TEST(ConstantVelocityEstimator, DeclaresAReversalAndRecovers) {
   EXPECT_GE(estimator.changes(), 1);
   EXPECT_LT((estimator.position() - offset).norm(), 0.03);
   EXPECT_LT((estimator.state().tail(3) + velocity).norm(), 2e-3);
+}
+
+// A quality that hardly depends on the offset (the whole drift moves z by far less than σz) does
+// not show it: the estimate is not significant, so the controller does not correct with it.
+TEST(ConstantVelocityEstimator, AnOffsetBelowTheNoiseIsNotSignificant) {
+  DriftScenario scenario;
+  scenario.model.hessian = Eigen::Matrix3d::Identity() * 1e-5;
+  ConstantVelocityEstimator<3> estimator = make_estimator();
+  estimator.reset(0, Eigen::Vector3d::Zero());
+  const Eigen::Vector3d velocity(0.01, -0.02, 0.015);
+  for (Index t = 0; t < 30; ++t) {
+    const Eigen::Vector3d u = scenario.next(t, Eigen::Vector3d::Zero());
+    estimator.add(t, scenario.model, u, scenario.plant(u, static_cast<double>(t) * velocity));
+    estimator.fit(t + 1);
+    EXPECT_FALSE(estimator.significant()) << "assembly " << t;
+  }
 }
 
 TEST(ConstantVelocityEstimator, RefusesBadInputAndKeepsItsState) {

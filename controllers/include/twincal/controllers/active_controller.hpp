@@ -79,6 +79,7 @@ struct ActiveStepReport {
   bool gated = false;                  ///< the sigma-point update inflated P at the gate
   bool velocity_change = false;        ///< the estimator declared a change of velocity
   Index history = 0;                   ///< assemblies in the estimator's history
+  bool corrected = false;              ///< the control applied δû (the offset was significant)
 };
 
 template <Twin T, int N = Dynamic, typename Probe = ThompsonProbe<N>,
@@ -198,7 +199,12 @@ class ActiveCalibrationController {
       probe_vector_.setZero();
     }
     step_.probe_norm = probe_vector_.norm();
-    control_ = center_ + mean_ + probe_vector_;
+    // While the estimator's history does not show an offset significantly, the control is not
+    // corrected (the baseline's u0 plus the probe): a twin whose quality hardly depends on the
+    // offset would otherwise be corrected by a fit of its model's errors.
+    step_.corrected = !quadratic_ || estimator_.significant() || restarted_;
+    control_ = center_ + probe_vector_;
+    if (step_.corrected) control_ += mean_;
     control_ = control_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
     report_.control = control_;
     report_.quality_evaluations = evaluations;
@@ -225,7 +231,8 @@ class ActiveCalibrationController {
 
   /// Restarts the estimate at N(estimate, covariance) — a re-initialization from outside (a
   /// measurement of the fixture, a least-squares fit over a history) — keeping q and the model;
-  /// the estimator forgets its history.
+  /// the estimator forgets its history, and the estimate is applied from the next proposal on
+  /// (it does not wait for the history to show the offset significantly).
   /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError, with the state
   ///         unchanged.
   void restart(const ControlVector& estimate, const CovarianceMatrix& covariance) {
@@ -236,6 +243,7 @@ class ActiveCalibrationController {
     require_symmetric("covariance", covariance);
     require_positive_definite("covariance", covariance);
     estimator_.reset(assemblies_, estimate, covariance);
+    restarted_ = true;  // an estimate given from outside is applied without waiting for evidence
     mean_ = estimate;
     covariance_ = covariance;
     pending_ = false;
@@ -379,6 +387,7 @@ class ActiveCalibrationController {
   bool pending_ = false;
   Index assemblies_ = 0;
   Index time_ = 0;  // the assembly of the pending proposal
+  bool restarted_ = false;
   Index retry_at_ = 0;
   ProposalReport report_;
   ActiveStepReport step_;

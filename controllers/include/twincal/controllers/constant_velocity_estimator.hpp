@@ -122,6 +122,9 @@ class ConstantVelocityEstimator {
   /// Changes of velocity declared so far, and whether the last fit declared one.
   [[nodiscard]] Index changes() const noexcept { return changes_; }
   [[nodiscard]] bool changed() const noexcept { return changed_; }
+  /// Whether the history shows an offset: the fit explains it better than δu = 0 by more than
+  /// chance would (see ConstantVelocityOptions::significance).
+  [[nodiscard]] bool significant() const noexcept { return significant_; }
   /// The assembly the last fit estimated, and its (a, b) and covariance.
   [[nodiscard]] Index fit_time() const noexcept { return fit_time_; }
   [[nodiscard]] const StateVector& state() const noexcept { return state_; }
@@ -429,7 +432,13 @@ class ConstantVelocityEstimator {
   // The covariance (the inverse Gauss–Newton matrix at state_), the position and a snapshot.
   void finish(Index time) {
     const Index d = dimension();
-    evaluate(state_, time, true);  // the Gauss–Newton matrix at the kept candidate
+    // Significance: the fit against "no offset", Δ = cost(0) − cost(θ̂) over the history, which
+    // is χ² with 2d degrees of freedom when there is none; beyond its mean + k·sd it is real.
+    trial_.setZero();
+    const double no_offset = evaluate(trial_, time, false);
+    const double fitted = evaluate(state_, time, true);  // and the Gauss–Newton matrix there
+    const double dof = static_cast<double>(2 * d);
+    significant_ = no_offset - fitted > dof + options_.significance * std::sqrt(2.0 * dof);
     assemble(state_);
     covariance_ = factor_.solve(identity_);
     symmetrize(covariance_);
@@ -475,6 +484,7 @@ class ConstantVelocityEstimator {
   bool fitted_ = false;
   Index changes_ = 0;
   bool changed_ = false;
+  bool significant_ = false;
   double data_cost_ = 0.0;
   // Workspaces, sized once.
   StateMatrix shift_;

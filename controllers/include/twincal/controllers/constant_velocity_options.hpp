@@ -32,6 +32,10 @@ struct ConstantVelocityOptions {
   double change_position_spread = 9.0;
   double change_velocity_spread = 4.0;
   double change_velocity_floor_fraction = 5e-4;
+  /// The offset is significant when its fit beats δu = 0 by more than the χ²(2d) mean plus
+  /// `significance` standard deviations of the normalized data cost (a twin whose quality hardly
+  /// depends on the offset, e.g. the door, never gets there, and is then not corrected).
+  double significance = 3.0;
   /// The longest history kept (assemblies); older ones are dropped.
   Index max_history = 128;
   /// Gauss–Newton iterations per fit, and the relative step at which they stop.
@@ -60,6 +64,9 @@ struct ConstantVelocityOptions {
           "change_position_spread, change_velocity_spread and change_velocity_floor_fraction are "
           "{}, {} and {}; rule: finite, the spreads >= 0 and the floor > 0",
           change_position_spread, change_velocity_spread, change_velocity_floor_fraction);
+    }
+    if (!(significance >= 0.0) || !std::isfinite(significance)) {
+      return fmt::format("significance is {}; it must be finite and >= 0", significance);
     }
     if (max_history <= change_lag) {
       return fmt::format("max_history is {}; rule: must be > change_lag = {}", max_history,
