@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "controller_fixture.hpp"
+#include "twincal/controllers/information_probe.hpp"
 #include "twincal/filters/simplex_sigma_points.hpp"
 #include "twincal/models/rugged_twin.hpp"
 

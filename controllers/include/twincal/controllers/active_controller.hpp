@@ -32,8 +32,6 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
-#include <string>
-#include <type_traits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -44,7 +42,6 @@
 #include "twincal/controllers/constant_velocity_estimator.hpp"
 #include "twincal/controllers/controller.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
-#include "twincal/controllers/information_probe.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
 #include "twincal/controllers/probe_design.hpp"
@@ -393,7 +390,7 @@ class ActiveCalibrationController {
   ActiveStepReport step_;
 };
 
-/// The preset: InformationProbe, cubature sigma points for a twin that is not quadratic, NLopt
+/// The preset: ThompsonProbe, cubature sigma points for a twin that is not quadratic, NLopt
 /// for a twin without a known optimum.
 template <Twin T, int N = Dynamic>
 using ActiveController = ActiveCalibrationController<T, N>;

@@ -28,11 +28,10 @@
 /// Cost per fit: O(n (2d)²) per iteration for n assemblies in the history, plus O(d³) solves;
 /// no allocation after construction (the history is a ring of `max_history` assemblies).
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
 #include <vector>
 
+#include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -40,6 +39,7 @@
 #include "twincal/controllers/constant_velocity_options.hpp"
 #include "twincal/controllers/quadratic_model.hpp"
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/symmetrize.hpp"
 #include "twincal/core/validate.hpp"
@@ -97,6 +97,7 @@ class ConstantVelocityEstimator {
     prior_precision_.resize(s, s);
     identity_ = StateMatrix::Identity(s, s);
     trial_.resize(s);
+    candidate_.resize(s);
     best_.resize(s);
     start_.resize(s);
     step_.resize(s);
@@ -113,6 +114,7 @@ class ConstantVelocityEstimator {
     position_.resize(d);
     position_covariance_.resize(d, d);
     prior_scale_.resize(s);
+    last_hessian_.resize(d, d);
   }
 
   [[nodiscard]] Index dimension() const noexcept { return width_.size(); }
@@ -196,15 +198,13 @@ class ConstantVelocityEstimator {
     values_(i) = model.value;
     half_gradients_.col(i) = model.half_gradient;
     // H as fitted may have tiny negative eigenvalues (finite differences along directions the
-    // quality ignores); along them the fit would run away, so they are clipped at 0.
-    hessian_eigen_.compute(model.hessian);
-    if (hessian_eigen_.eigenvalues().minCoeff() < 0.0) {
-      hessians_.middleCols(i * d, d).noalias() =
-          hessian_eigen_.eigenvectors() *
-          hessian_eigen_.eigenvalues().cwiseMax(0.0).asDiagonal() *
-          hessian_eigen_.eigenvectors().transpose();
+    // quality ignores); along them the fit would run away, so they are clipped at 0. The
+    // surrogate keeps H for many assemblies: an unchanged H reuses the previous entry's.
+    if (size_ > 0 && model.hessian == last_hessian_) {
+      hessians_.middleCols(i * d, d) = hessians_.middleCols(slot(size_ - 1) * d, d);
     } else {
-      hessians_.middleCols(i * d, d) = model.hessian;
+      last_hessian_ = model.hessian;
+      clip_hessian(i);
     }
     qualities_(i) = z;
     ++size_;
@@ -237,10 +237,11 @@ class ConstantVelocityEstimator {
         } else {
           start_ = shifted_mean_;
         }
-        const double candidate_cost = solve(start_, time, trial_);
+        // Not into trial_: solve() uses it for its trial steps.
+        const double candidate_cost = solve(start_, time, candidate_);
         if (candidate_cost < cost) {
           cost = candidate_cost;
-          best_ = trial_;
+          best_ = candidate_;
         }
       }
     }
@@ -256,9 +257,20 @@ class ConstantVelocityEstimator {
   }
 
  private:
-  [[nodiscard]] Index slot(Index i) const noexcept {
-    return (head_ + i) % options_.max_history;
+  // Stores last_hessian_, its negative eigenvalues clipped at 0, in ring slot i.
+  void clip_hessian(Index i) {
+    const Index d = dimension();
+    hessian_eigen_.compute(last_hessian_);
+    if (hessian_eigen_.eigenvalues().minCoeff() < 0.0) {
+      hessians_.middleCols(i * d, d).noalias() =
+          hessian_eigen_.eigenvectors() * hessian_eigen_.eigenvalues().cwiseMax(0.0).asDiagonal() *
+          hessian_eigen_.eigenvectors().transpose();
+    } else {
+      hessians_.middleCols(i * d, d) = last_hessian_;
+    }
   }
+
+  [[nodiscard]] Index slot(Index i) const noexcept { return (head_ + i) % options_.max_history; }
   [[nodiscard]] Index time_of(Index i) const noexcept {
     return times_[static_cast<std::size_t>(slot(i))];
   }
@@ -296,8 +308,7 @@ class ConstantVelocityEstimator {
     normal_.noalias() = state_eigen_.eigenvectors() *
                         state_eigen_.eigenvalues().cwiseMin(1.0).asDiagonal() *
                         state_eigen_.eigenvectors().transpose();
-    shifted_covariance_ =
-        prior_scale_.asDiagonal() * normal_ * prior_scale_.asDiagonal();
+    shifted_covariance_ = prior_scale_.asDiagonal() * normal_ * prior_scale_.asDiagonal();
   }
 
   // z − m for history entry i (r = v − a − τ b); writes slope_ = ∂m/∂a. A non-positive model
@@ -308,8 +319,8 @@ class ConstantVelocityEstimator {
     const double tau = static_cast<double>(times_[static_cast<std::size_t>(s)] - time);
     error_ = controls_.col(s) - state.head(d) - tau * state.tail(d);
     curvature_error_.noalias() = hessians_.middleCols(s * d, d) * error_;
-    const double squared = values_(s) + 2.0 * half_gradients_.col(s).dot(error_) +
-                           error_.dot(curvature_error_);
+    const double squared =
+        values_(s) + 2.0 * half_gradients_.col(s).dot(error_) + error_.dot(curvature_error_);
     const double floor = 1e-12 * (1.0 + std::abs(values_(s)));
     if (squared > floor) {
       const double model = std::sqrt(squared);
@@ -380,12 +391,12 @@ class ConstantVelocityEstimator {
   void assemble(const StateVector& state) {
     const Index n = size_;
     normal_ = prior_precision_;
-    normal_.noalias() += jacobian_.topRows(n).transpose() * jacobian_.topRows(n) /
-                         measurement_variance_;
+    normal_.noalias() +=
+        jacobian_.topRows(n).transpose() * jacobian_.topRows(n) / measurement_variance_;
     prior_cost(state);
     gradient_ = -weighted_difference_;
-    gradient_.noalias() += jacobian_.topRows(n).transpose() * residuals_.head(n) /
-                           measurement_variance_;
+    gradient_.noalias() +=
+        jacobian_.topRows(n).transpose() * residuals_.head(n) / measurement_variance_;
     factor_.compute(normal_);
   }
 
@@ -493,6 +504,7 @@ class ConstantVelocityEstimator {
   StateMatrix prior_precision_;
   StateMatrix identity_;
   StateVector trial_;
+  StateVector candidate_;
   StateVector best_;
   StateVector start_;
   StateVector step_;
@@ -508,6 +520,7 @@ class ConstantVelocityEstimator {
   OffsetVector velocity_;
   Eigen::LDLT<StateMatrix> factor_;
   Eigen::SelfAdjointEigenSolver<OffsetMatrix> hessian_eigen_;
+  OffsetMatrix last_hessian_;  // the last H added, as fitted
   StateVector prior_scale_;
   Eigen::SelfAdjointEigenSolver<StateMatrix> state_eigen_;
 };

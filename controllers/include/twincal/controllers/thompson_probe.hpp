@@ -13,6 +13,7 @@
 #include <cmath>
 #include <optional>
 
+#include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
