@@ -7,6 +7,9 @@ estimation error |du^ - du*| (lower panel). Boxes cover the runs that did not di
 that did are counted in a red circle above the controller whose redness grows with the count.
 Table 1 analog: mean wall time and Q-evaluations per assembly of the default controller and the
 w-controllers, for 1 and 3 locators, per case (Markdown and CSV), plus every group x controller.
+Scaling figure (groups of `twincal scaling`, tagged study = scaling): per case, the median
+relative residual, the diverged fraction and the Q-evaluations per assembly against the number d
+of controlled locators, one line per controller.
 
     twincal_plot.py --results DIR --out DIR      (normally run by `twincal plot`)
 """
@@ -117,6 +120,7 @@ def table1(groups, episodes, out):
             evaluations = mean([number(e["q_evaluations_per_assembly"]) for e in rows])
             detail.append([group["name"], controller, dimension, len(rows), seconds, evaluations])
             family = ("w-controllers" if controller.startswith("w=") else
+                      "per-component" if controller.startswith("per-component:") else
                       "default controller" if controller == "default" else controller)
             key = (group["config"]["case"], family, dimension)
             families.setdefault(key, []).append((seconds, evaluations))
@@ -128,7 +132,8 @@ def table1(groups, episodes, out):
 
     cases = sorted({case for case, _, _ in families})
     dimensions = sorted({d for _, _, d in families})
-    order = ["default controller", "w-controllers", "baseline", "nominal"]
+    order = ["default controller", "w-controllers", "per-component", "active", "baseline",
+             "nominal"]
     names = [n for n in order if any(f == n for _, f, _ in families)]
     columns = [(case, d) for case in cases for d in dimensions]
     with open(os.path.join(out, "table1.csv"), "w", newline="", encoding="utf-8") as f:
@@ -159,6 +164,68 @@ def table1(groups, episodes, out):
     return "\n".join(lines)
 
 
+def median(values):
+    values = sorted(v for v in values if not math.isnan(v))
+    if not values:
+        return math.nan
+    middle = len(values) // 2
+    return values[middle] if len(values) % 2 else 0.5 * (values[middle - 1] + values[middle])
+
+
+def plot_scaling(groups, episodes, out):
+    """One figure per case of the scaling groups: three panels against d, a line per controller."""
+    scaling = [g for g in groups if g.get("tags", {}).get("study") == "scaling"]
+    made = []
+    for case in sorted({g["config"]["case"] for g in scaling}):
+        mine = sorted((g for g in scaling if g["config"]["case"] == case),
+                      key=lambda g: g["twin"]["dimension"])
+        controllers = []
+        for group in mine:
+            controllers += [c for c in group["config"]["controllers"] if c not in controllers]
+        figure, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+        for controller in controllers:
+            points = []  # (d, median residual, diverged fraction, Q-evaluations)
+            for group in mine:
+                rows = [e for e in episodes
+                        if e["group"] == group["name"] and e["controller"] == controller]
+                if not rows:
+                    continue
+                kept = [e for e in rows if e["diverged_at"] is None]
+                points.append((group["twin"]["dimension"],
+                               median([number(e["relative_residual"]) for e in kept]),
+                               (len(rows) - len(kept)) / len(rows),
+                               mean([number(e["q_evaluations_per_assembly"]) for e in rows])))
+            if not points:
+                continue
+            for axis, column in zip(axes, (1, 2, 3)):
+                axis.plot([p[0] for p in points], [p[column] for p in points], marker="o",
+                          label=controller)
+        cap = mine[0]["config"].get("candidate_cap")
+        titles = ("median of the runs' mean (z − z*)/z*", "diverged fraction of the runs",
+                  "Q-evaluations per assembly" +
+                  (f" (w-controllers: ≤ {cap} candidates)" if cap else ""))
+        for axis, title in zip(axes, titles):
+            axis.set_xlabel("controlled locators d")
+            axis.set_title(title, fontsize=9)
+            axis.grid(alpha=0.3)
+            axis.set_xscale("log")
+            dimensions = [g["twin"]["dimension"] for g in mine]
+            axis.set_xticks(dimensions)
+            axis.set_xticklabels([str(d) for d in dimensions])
+        axes[0].set_yscale("log")
+        axes[2].set_yscale("log")
+        axes[1].set_ylim(-0.05, 1.05)
+        axes[0].legend(fontsize=8)
+        figure.suptitle(f"scaling with dimension: {case}", fontsize=10)
+        figure.tight_layout()
+        stem = f"scaling_{file_stem(case)}"
+        for extension in ("png", "svg"):
+            figure.savefig(os.path.join(out, f"{stem}.{extension}"), dpi=150)
+        plt.close(figure)
+        made.append(stem)
+    return made
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--results", required=True, help="a twincal results directory")
@@ -172,6 +239,7 @@ def main():
         stem = plot_group(group, [e for e in episodes if e["group"] == group["name"]], out)
         if stem:
             made.append(stem)
+    made += plot_scaling(groups, episodes, out)
     print(table1(groups, episodes, out))
     print(f"\n{len(made)} figures (PNG + SVG), table1.md, table1.csv and table1_detail.csv "
           f"in {out}")

@@ -2,11 +2,14 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -42,8 +45,8 @@ constexpr const char* config_options_help =
   --exploration NAME     trace (default) | weighted_trace | log_det | max_eigenvalue
   --candidates N         candidates per assembly (default 2^(2+d))
   --controllers LIST     comma-separated: baseline, nominal, default, w=<0..1>, active,
-                         or "paper"
-                         (default paper: baseline, default, w=0, 0.1, ..., 1)
+                         per-component:w=<0..1>, or "paper"
+                         (default paper: baseline, default, w=0, 0.1, ..., 1, active))
 )";
 
 constexpr const char* execution_help =
@@ -75,10 +78,18 @@ std::vector<ControllerSpec> parse_controllers(const std::string& list) {
   return specs;
 }
 
-// The base config from --config and the options shared by run and paper.
-ExperimentConfig read_config(Arguments& arguments) {
+// The base config from --config and the options shared by run, paper and scaling; controllers
+// are `default_controllers` unless the config file or --controllers names them.
+ExperimentConfig read_config(
+    Arguments& arguments,
+    const std::vector<ControllerSpec>& default_controllers = ControllerSpec::paper()) {
   ExperimentConfig config;
-  if (const auto path = arguments.text("config")) config = read_json_file(*path);
+  config.controllers = default_controllers;
+  if (const auto path = arguments.text("config")) {
+    const json document = read_json_file(*path);
+    config = document;
+    if (!document.contains("controllers")) config.controllers = default_controllers;
+  }
   if (const auto v = arguments.integer("runs")) config.runs = *v;
   if (const auto v = arguments.integer("assemblies")) config.assemblies = *v;
   if (const auto v = arguments.seed("seed")) config.seed = *v;
@@ -198,8 +209,8 @@ int paper_command(std::span<const std::string> args) {
       R"(usage: twincal paper [options]
 
 Runs the paper's matrix (Sec. 3): for each case, locator sets A, B, C and ABC, each with the
-baseline, the default controller and the w-controllers w = 0, 0.1, ..., 1, over N runs of 100
-assemblies; prints the summary table. Then `twincal plot --results DIR` makes Figs. 4-11 and
+baseline, the default controller and the w-controllers w = 0, 0.1, ..., 1 (the paper's 13) and
+the active controller, over N runs of 100 assemblies; prints the summary table. Then `twincal plot --results DIR` makes Figs. 4-11 and
 Table 1.
 
   --case NAME            body | door | all (body and door; default) | analytic
@@ -220,6 +231,74 @@ Table 1.
   const bool dry_run = arguments.flag("dry-run");
   arguments.require_all_read();
   return run_study(paper_study(cases, base), out, options, dry_run);
+}
+
+// "1,2,3" as a list of integers.
+std::vector<Index> parse_dimensions(const std::string& list) {
+  std::vector<Index> dimensions;
+  std::size_t begin = 0;
+  while (begin <= list.size()) {
+    const std::size_t end = std::min(list.find(',', begin), list.size());
+    const std::string_view item = std::string_view(list).substr(begin, end - begin);
+    Index d = 0;
+    const auto [last, error] = std::from_chars(item.data(), item.data() + item.size(), d);
+    if (error != std::errc{} || last != item.data() + item.size()) {
+      throw InvalidArgumentError(
+          "dimensions", fmt::format("--dimensions: holds \"{}\"; rule: must be integers joined "
+                                    "by commas, e.g. 1,3,12",
+                                    item));
+    }
+    dimensions.push_back(d);
+    begin = end + 1;
+  }
+  return dimensions;
+}
+
+int scaling_command(std::span<const std::string> args) {
+  static const std::string help = fmt::format(
+      R"(usage: twincal scaling [options]
+
+Benchmarks scaling with dimension: the same controllers over a growing number d of controlled
+(and drifting) locators. On the analytic twin, one group per d with every locator controlled; on
+body or door, locator sets A, ABC and all. Then `twincal plot --results DIR` draws median
+relative residual, divergences and Q-evaluations per assembly against d, one line per
+controller.
+
+  --case NAME            analytic (default) | body | door
+  --dimensions LIST      the analytic twin's d values (default 1,2,3,6,12,19,32)
+  --candidate-cap N      at most N candidates per assembly for the w-controllers (default 1024:
+                         the paper's 2^(2+d) up to d = 8; 2^21 at d = 19 is infeasible)
+                         (default controllers: baseline, default, w=1, per-component:w=1, active)
+{}{})",
+      config_options_help, execution_help);
+  Arguments arguments(args, common_flags);
+  if (wants_help(arguments, help.c_str())) return 0;
+  if (arguments.integer("dimension")) {
+    throw InvalidArgumentError("dimension",
+                               "--dimension: is given; rule: scaling takes --dimensions LIST");
+  }
+  ExperimentConfig base =
+      read_config(arguments, {ControllerSpec::baseline(), ControllerSpec::default_controller(),
+                              ControllerSpec::lookahead(1.0), ControllerSpec::per_component(1.0),
+                              ControllerSpec::active()});
+  if (const auto v = arguments.integer("candidate-cap")) {
+    base.candidate_cap = *v;
+  } else if (!base.candidate_cap) {
+    base.candidate_cap = 1024;
+  }
+  const TwinCase twin_case = parse_twin_case(arguments.text("case").value_or("analytic"), "--case");
+  const std::optional<std::string> list = arguments.text("dimensions");
+  std::vector<Index> dimensions;
+  if (list) {
+    dimensions = parse_dimensions(*list);
+  } else if (twin_case == TwinCase::analytic) {
+    dimensions = {1, 2, 3, 6, 12, 19, 32};
+  }
+  const fs::path out = arguments.text("out").value_or("results/scaling");
+  const RunOptions options = read_run_options(arguments);
+  const bool dry_run = arguments.flag("dry-run");
+  arguments.require_all_read();
+  return run_study(scaling_study(twin_case, dimensions, base), out, options, dry_run);
 }
 
 int sweep_command(std::span<const std::string> args) {
@@ -330,7 +409,7 @@ circles whose intensity grows with their count (the paper's Figs. 4-11); and the
 mean time and Q-evaluations per assembly per controller for 1 and 3 locators, as Markdown and
 CSV.
 
-  --results DIR          results directory (of run, paper or sweep)
+  --results DIR          results directory (of run, paper, scaling or sweep)
   --out DIR              where the figures go (default DIR/figures)
 
 The interpreter is $TWINCAL_PYTHON, else /usr/bin/python3, else python3 (the first that has

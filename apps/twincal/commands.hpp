@@ -8,6 +8,7 @@ namespace twincal::cli {
 
 int run_command(std::span<const std::string> args);
 int paper_command(std::span<const std::string> args);
+int scaling_command(std::span<const std::string> args);
 int sweep_command(std::span<const std::string> args);
 int plot_command(std::span<const std::string> args, const char* argv0);
 int summary_command(std::span<const std::string> args);

@@ -18,7 +18,8 @@ usage: twincal <command> [options]      twincal <command> --help
 
 commands:
   run       run one configuration (a case, a locator set, controllers) for N runs
-  paper     run the paper's matrix: cases x locator sets A, B, C, ABC x 13 controllers x runs
+  paper     run the paper's matrix: cases x locator sets A, B, C, ABC x 14 controllers x runs
+  scaling   run baseline, default, w=1, per-component and active over d = 1 ... 32 locators
   sweep     run an ablation: the cartesian product of axes over a base config (JSON)
   plot      make the figures (PNG, SVG) and the Table 1 analog from a results directory
   summary   print the summary table of a results directory
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "run") return twincal::cli::run_command(rest);
     if (command == "paper") return twincal::cli::paper_command(rest);
+    if (command == "scaling") return twincal::cli::scaling_command(rest);
     if (command == "sweep") return twincal::cli::sweep_command(rest);
     if (command == "plot") return twincal::cli::plot_command(rest, argv[0]);
     if (command == "summary") return twincal::cli::summary_command(rest);

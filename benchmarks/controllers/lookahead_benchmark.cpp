@@ -4,66 +4,15 @@
 // a fixed budget of 64 candidates. Episodes of 100 assemblies as in the paper (a fresh controller
 // and drift each episode, set-up not timed), on the cheap analytic RMS-quadratic twin, so the
 // numbers measure twincal's own overhead around the Q-evaluations.
-#include <cstdint>
-#include <optional>
-#include <vector>
-
 #include <benchmark/benchmark.h>
 
+#include "episode_benchmark.hpp"
 #include "twincal/controllers/presets.hpp"
-#include "twincal/models/bouncing_drift.hpp"
-#include "twincal/models/evaluator.hpp"
-#include "twincal/models/rms_quadratic_twin.hpp"
 
 namespace {
 
 using namespace twincal;
-using CountedTwin = Evaluator<RmsQuadraticTwin>;
-constexpr std::size_t episode_length = 100;
-
-RmsQuadraticTwin make_twin(Index d) {
-  RmsQuadraticTwinOptions options;
-  options.assemblies.dimension = d;
-  return RmsQuadraticTwin::generate(options, RandomStream(11));
-}
-
-// Runs assemblies in episodes; `make` builds a fresh controller for each episode.
-template <int N, typename Make>
-void run_episodes(benchmark::State& state, const RmsQuadraticTwin& twin, const CountedTwin& counted,
-                  Make make) {
-  const Index d = twin.control_dimension();
-  const std::vector<AssemblyId> assemblies = twin.assemblies();
-  std::optional<decltype(make(std::uint64_t{0}))> controller;
-  std::optional<BouncingDrift<Dynamic>> drift;
-  std::uint64_t episode = 0;
-  std::size_t t = episode_length;
-  double scored = 0.0;
-  std::uint64_t evaluations = 0;
-  for (auto _ : state) {
-    if (t == episode_length) {
-      state.PauseTiming();
-      controller.emplace(make(episode));
-      RandomStream drift_stream = RandomStream(5).substream(episode++);
-      drift.emplace(BouncingDrift<Dynamic>::random(d, drift_stream));
-      t = 0;
-      state.ResumeTiming();
-    }
-    drift->advance();
-    const AssemblyId& x = assemblies[t++];
-    const EvaluationStats before = counted.stats();
-    const Vector<N> u = controller->propose(x);
-    const VectorX shifted = VectorX(u) - drift->offset();
-    controller->observe(x, u, twin.quality(x, shifted));
-    evaluations += (counted.stats() - before).evaluations;
-    if constexpr (requires { controller->last_proposal().candidates_scored; }) {
-      scored += static_cast<double>(controller->last_proposal().candidates_scored);
-    }
-  }
-  const auto iterations = static_cast<double>(state.iterations());
-  state.counters["d"] = static_cast<double>(d);
-  state.counters["Q_evals_per_assembly"] = static_cast<double>(evaluations) / iterations;
-  state.counters["scored_per_assembly"] = scored / iterations;
-}
+using namespace twincal::benchmarks;
 
 template <int N>
 void BM_LookaheadController(benchmark::State& state) {

@@ -29,15 +29,18 @@ using ActiveControllers =
 TYPED_TEST_SUITE(ActiveControllerTest, ActiveControllers);
 
 // Runs `steps` assemblies of the plant Q(x, u − δu*) with a constant offset; returns the final
-// estimation error and checks every control against the twin's bounds.
+// estimation error and checks every control against the twin's bounds widened by the largest
+// correction (ActiveOptions::max_offset_fraction of the box width).
 template <typename C>
 double track(C& controller, const testing::AnalyticTwin& twin, const VectorX& offset, int steps) {
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   for (int t = 0; t < steps; ++t) {
     const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
     const typename C::ControlVector u = controller.propose(x);
-    EXPECT_TRUE((u.array() >= twin.lower_bounds().array()).all());
-    EXPECT_TRUE((u.array() <= twin.upper_bounds().array()).all());
+    const VectorX margin =
+        ActiveOptions{}.max_offset_fraction * (twin.upper_bounds() - twin.lower_bounds());
+    EXPECT_TRUE((u.array() >= (twin.lower_bounds() - margin).array()).all());
+    EXPECT_TRUE((u.array() <= (twin.upper_bounds() + margin).array()).all());
     controller.observe(x, u, twin.quality(x, VectorX(u - offset)));
   }
   return (VectorX(controller.offset_estimate()) - offset).norm();
@@ -72,7 +75,15 @@ TYPED_TEST(ActiveControllerTest, ClipsControlsToTheTwinBoundsWhenTheEstimateIsLo
                      SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-3);
   const AssemblyId x{2, 3};
   const VectorX u = controller.propose(x);
-  EXPECT_EQ(u, twin.upper_bounds());
+  // δû = 5 is applied as the largest correction, ½ of the box width 2: u − 1 is in the box.
+  const VectorX twin_frame = u - VectorX::Ones(3);
+  EXPECT_TRUE((twin_frame.array() >= twin.lower_bounds().array()).all()) << u.transpose();
+  EXPECT_TRUE((twin_frame.array() <= twin.upper_bounds().array()).all()) << u.transpose();
+  TypeParam uncorrected(counting, RandomStream(3), ActiveOptions{.max_offset_fraction = 0.0});
+  uncorrected.restart(Eigen::Vector3d::Constant(5.0),
+                      SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-3);
+  // Without corrections the control is the twin-frame one (up to the rounding of u − 1).
+  EXPECT_LT((VectorX(uncorrected.propose(x)) - twin_frame).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {
@@ -107,6 +118,8 @@ TEST(ActiveController, FallsBackToSigmaPointsForATwinThatIsNotQuadratic) {
 TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(ActiveOptions{.measurement_variance = -1.0}.validate(),
             "measurement_variance is -1; it must be finite and > 0");
+  EXPECT_EQ(ActiveOptions{.max_offset_fraction = -0.1}.validate(),
+            "max_offset_fraction is -0.1; it must lie in [0, 1]");
   EXPECT_EQ(ActiveOptions{.surrogate = {.tolerance = 0.0}}.validate(),
             "surrogate.tolerance is 0; it must be finite and > 0");
   const testing::AnalyticTwin twin = testing::make_twin(2);

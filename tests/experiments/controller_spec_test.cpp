@@ -7,14 +7,15 @@
 namespace twincal {
 namespace {
 
-TEST(ControllerSpec, PaperListsBaselineDefaultAndElevenWControllers) {
+TEST(ControllerSpec, PaperListsBaselineDefaultElevenWControllersAndActive) {
   const std::vector<ControllerSpec> specs = ControllerSpec::paper();
-  ASSERT_EQ(specs.size(), 13U);
+  ASSERT_EQ(specs.size(), 14U);
   EXPECT_EQ(specs[0].label(), "baseline");
   EXPECT_EQ(specs[1].label(), "default");
   EXPECT_EQ(specs[2].label(), "w=0");
   EXPECT_EQ(specs[5].label(), "w=0.3");
   EXPECT_EQ(specs[12].label(), "w=1");
+  EXPECT_EQ(specs[13].label(), "active");
 }
 
 TEST(ControllerSpec, LabelsParseBackToTheSameSpec) {
@@ -25,6 +26,8 @@ TEST(ControllerSpec, LabelsParseBackToTheSameSpec) {
   EXPECT_EQ(ControllerSpec::parse("active"), ControllerSpec::active());
   EXPECT_EQ(ControllerSpec::active().label(), "active");
   EXPECT_EQ(ControllerSpec::parse("w=0.30").label(), "w=0.3");
+  EXPECT_EQ(ControllerSpec::parse("per-component:w=1"), ControllerSpec::per_component(1.0));
+  EXPECT_EQ(ControllerSpec::per_component(0.5).label(), "per-component:w=0.5");
 }
 
 TEST(ControllerSpec, RejectsUnknownNamesAndWOutsideTheUnitInterval) {
@@ -32,6 +35,9 @@ TEST(ControllerSpec, RejectsUnknownNamesAndWOutsideTheUnitInterval) {
   EXPECT_THROW((void)ControllerSpec::parse("w=abc"), InvalidArgumentError);
   EXPECT_THROW((void)ControllerSpec::parse("optimal"), InvalidArgumentError);
   EXPECT_THROW((void)ControllerSpec::parse(" default"), InvalidArgumentError);
+  EXPECT_THROW((void)ControllerSpec::parse("per-component:w=2"), InvalidArgumentError);
+  EXPECT_THROW((void)ControllerSpec::parse("per-component"), InvalidArgumentError);
+  EXPECT_THROW((void)ControllerSpec::parse("per-component:default"), InvalidArgumentError);
 }
 
 TEST(ControllerSpec, OnlyFilterBasedControllersEstimate) {
@@ -39,6 +45,7 @@ TEST(ControllerSpec, OnlyFilterBasedControllersEstimate) {
   EXPECT_FALSE(ControllerSpec::nominal().estimates());
   EXPECT_TRUE(ControllerSpec::default_controller().estimates());
   EXPECT_TRUE(ControllerSpec::lookahead(0.5).estimates());
+  EXPECT_TRUE(ControllerSpec::per_component(0.5).estimates());
   EXPECT_TRUE(ControllerSpec::active().estimates());
 }
 

@@ -105,6 +105,19 @@ TEST(RunEpisode, CountsTheFiltersEvaluations) {
     EXPECT_LE(w.q_evaluations(t), 32.0 * 7.0);
     EXPECT_EQ(std::fmod(w.q_evaluations(t), 7.0), 0.0);
   }
+  // One one-locator w-controller per locator: each scores at most 2^3 = 8 candidates at its 3
+  // sigma points and updates afresh at 3, so 3 · 3 to 3 · (8 · 3 + 3) per assembly.
+  const EpisodeResult components = run_episode(twin, config, ControllerSpec::per_component(0.5), 0);
+  ASSERT_GT(components.steps, 0);
+  for (Index t = 0; t < components.steps; ++t) {
+    EXPECT_GE(components.q_evaluations(t), 9.0) << t;
+    EXPECT_LE(components.q_evaluations(t), 81.0) << t;
+  }
+  // A candidate cap bounds the w-controller's scoring.
+  ExperimentConfig capped = config;
+  capped.candidate_cap = 2;
+  const EpisodeResult few = run_episode(twin, capped, ControllerSpec::lookahead(0.5), 0);
+  for (Index t = 0; t < few.steps; ++t) EXPECT_LE(few.q_evaluations(t), 2.0 * 7.0) << t;
   // The active controller fits its model (d + 1 = 4, or (d + 1)(d + 2)/2 = 10 when it refits H)
   // and checks it at 2 points: 6 or 12 per assembly, within 4 (d + 1)² = 64.
   const EpisodeResult active = run_episode(twin, config, ControllerSpec::active(), 0);

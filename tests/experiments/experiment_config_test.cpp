@@ -13,7 +13,7 @@ TEST(ExperimentConfig, DefaultsAreThePapersAndValid) {
   EXPECT_FALSE(config.validate().has_value());
   EXPECT_EQ(config.runs, 10);
   EXPECT_EQ(config.assemblies, 100);
-  EXPECT_EQ(config.controllers.size(), 13U);
+  EXPECT_EQ(config.controllers.size(), 14U);
   EXPECT_EQ(config.filter_measurement_variance(), 1e-4);
   ExperimentConfig door;
   door.twin_case = TwinCase::door;
@@ -32,6 +32,7 @@ TEST(ExperimentConfig, RoundTripsThroughJson) {
   config.sampler = CandidateSampler::halton;
   config.exploration = ExplorationKind::log_det;
   config.candidates = 12;
+  config.candidate_cap = 10;
   config.measurement_variance = 3e-5;
   config.plant_noise_variance = 1e-6;
   config.seed = 99;
@@ -41,6 +42,7 @@ TEST(ExperimentConfig, RoundTripsThroughJson) {
   EXPECT_EQ(nlohmann::json(back), json);
   EXPECT_EQ(back.controllers, config.controllers);
   EXPECT_EQ(back.candidates, config.candidates);
+  EXPECT_EQ(back.candidate_cap, config.candidate_cap);
   EXPECT_EQ(back.measurement_variance, config.measurement_variance);
   EXPECT_EQ(back.filter, FilterScheme::cubature);
 }
@@ -83,6 +85,24 @@ TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
   config = {};
   config.name = "a,b";
   EXPECT_TRUE(config.validate().has_value());
+}
+
+TEST(ExperimentConfig, CandidateCountIsThePapersOrTheSetCountCapped) {
+  ExperimentConfig config;
+  EXPECT_EQ(config.candidate_count(3), 32);
+  EXPECT_EQ(config.candidate_count(100), Index{1} << 62);  // saturates instead of overflowing
+  config.candidate_cap = 1024;
+  EXPECT_EQ(config.candidate_count(6), 256);
+  EXPECT_EQ(config.candidate_count(19), 1024);
+  config.candidates = 2000;
+  EXPECT_EQ(config.candidate_count(1), 1024);
+  config.candidate_cap = 0;
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("candidate_cap is 0"), std::string::npos);
+  config.candidate_cap.reset();
+  config.controllers = {ControllerSpec::per_component(1.5)};
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("w = 1.5"), std::string::npos);
 }
 
 TEST(ExperimentConfig, EpisodeDefiningJsonIgnoresNameRunsAndControllers) {

@@ -17,10 +17,35 @@ TEST(PaperStudy, IsEveryCaseTimesTheFourLocatorSets) {
   EXPECT_EQ(groups[3].config.group_name(), "body/ABC");
   EXPECT_EQ(groups[7].config.group_name(), "door/ABC");
   EXPECT_EQ(groups[5].tags, (json{{"case", "door"}, {"locators", "B"}}));
-  EXPECT_EQ(groups[5].config.controllers.size(), 13U);
+  EXPECT_EQ(groups[5].config.controllers.size(), 14U);
   ExperimentConfig named;
   named.name = "x";
   EXPECT_THROW((void)paper_study(cases, named), InvalidArgumentError);
+}
+
+TEST(ScalingStudy, IsOneGroupPerDimensionOnTheAnalyticTwinAndThreeLocatorSetsOnAFemTwin) {
+  const std::vector<Index> dimensions{1, 12, 32};
+  ExperimentConfig base;
+  base.runs = 3;
+  const std::vector<ExperimentGroup> groups = scaling_study(TwinCase::analytic, dimensions, base);
+  ASSERT_EQ(groups.size(), 3U);
+  EXPECT_EQ(groups[1].config.group_name(), "analytic/all/d=12");
+  EXPECT_EQ(groups[1].config.analytic_dimension, 12);
+  EXPECT_EQ(groups[1].config.locators, "all");
+  EXPECT_EQ(groups[1].config.runs, 3);
+  EXPECT_EQ(groups[2].tags, (json{{"study", "scaling"}, {"dimension", 32}}));
+
+  const std::vector<ExperimentGroup> body = scaling_study(TwinCase::body, {}, base);
+  ASSERT_EQ(body.size(), 3U);
+  EXPECT_EQ(body[1].config.group_name(), "body/ABC");
+  EXPECT_EQ(body[2].tags, (json{{"study", "scaling"}, {"locators", "all"}}));
+
+  EXPECT_THROW((void)scaling_study(TwinCase::door, dimensions, base), InvalidArgumentError);
+  const std::vector<Index> zero{0};
+  EXPECT_THROW((void)scaling_study(TwinCase::analytic, zero, base), InvalidArgumentError);
+  ExperimentConfig named;
+  named.name = "x";
+  EXPECT_THROW((void)scaling_study(TwinCase::analytic, dimensions, named), InvalidArgumentError);
 }
 
 TEST(ExpandSweep, IsTheCartesianProductOfTheAxesLastFastest) {

@@ -58,6 +58,12 @@ extern template void run_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetu
 extern template void run_active<1>(const EpisodeSetup&, EpisodeResult&);
 extern template void run_active<3>(const EpisodeSetup&, EpisodeResult&);
 extern template void run_active<Dynamic>(const EpisodeSetup&, EpisodeResult&);
+extern template void run_per_component<1>(const EpisodeSetup&, const ControllerSpec&,
+                                          EpisodeResult&);
+extern template void run_per_component<3>(const EpisodeSetup&, const ControllerSpec&,
+                                          EpisodeResult&);
+extern template void run_per_component<Dynamic>(const EpisodeSetup&, const ControllerSpec&,
+                                                EpisodeResult&);
 
 namespace {
 
@@ -108,6 +114,10 @@ void run_with_dimension(const EpisodeSetup& setup, const ControllerSpec& spec,
   }
   if (spec.kind == ControllerSpec::Kind::active) {
     run_active<N>(setup, result);
+    return;
+  }
+  if (spec.kind == ControllerSpec::Kind::per_component) {
+    run_per_component<N>(setup, spec, result);
     return;
   }
   const ExperimentConfig& config = *setup.config;

@@ -141,9 +141,34 @@ inline AnyExplorationLoss make_exploration_loss(ExplorationKind kind, const Case
   return AnyExplorationLoss(TraceLoss{});
 }
 
+/// The filter numbers of the config (eq. 5 and the sigma points).
+inline PaperSettings paper_settings(const ExperimentConfig& config) {
+  return {.process_variance = config.process_variance,
+          .measurement_variance = config.filter_measurement_variance(),
+          .initial_variance = config.initial_variance,
+          .alpha = config.alpha,
+          .beta = config.beta,
+          .kappa = config.kappa};
+}
+
+/// A w-controller's options over d locators (eqs. 13–14): the spec's w, the config's box and
+/// candidates.
+inline LookaheadOptions lookahead_options(const ExperimentConfig& config,
+                                          const ControllerSpec& spec, Index d) {
+  return {.w = spec.w,
+          .box_half_width = config.box_half_width,
+          .candidates = config.candidate_count(d),
+          .keep_drawing = config.keep_drawing};
+}
+
 /// The active controller (instantiated in episodes_active.cpp).
 template <int N>
 void run_active(const EpisodeSetup& setup, EpisodeResult& result);
+
+/// One w-controller per locator (instantiated in episodes_per_component.cpp).
+template <int N>
+void run_per_component(const EpisodeSetup& setup, const ControllerSpec& spec,
+                       EpisodeResult& result);
 
 /// The default controller or a w-controller with a `Scheme` filter of dimension N.
 template <int N, SigmaPointScheme Scheme>
@@ -152,23 +177,14 @@ void run_filtered(const EpisodeSetup& setup, const ControllerSpec& spec, const S
   using Filter = SigmaPointFilter<RandomWalk<N>, QualityFeedback<CaseTwin, N>, Scheme>;
   const CaseTwin& twin = *setup.twin;
   const ExperimentConfig& config = *setup.config;
-  const PaperSettings settings{.process_variance = config.process_variance,
-                               .measurement_variance = config.filter_measurement_variance(),
-                               .initial_variance = config.initial_variance,
-                               .alpha = config.alpha,
-                               .beta = config.beta,
-                               .kappa = config.kappa};
-  Filter filter =
-      make_quality_filter<Filter>(twin, setup.run.substream("filter"), scheme, settings);
+  Filter filter = make_quality_filter<Filter>(twin, setup.run.substream("filter"), scheme,
+                                              paper_settings(config));
   if (spec.kind == ControllerSpec::Kind::default_control) {
     DefaultController<Filter> controller(std::move(filter));
     simulate<N>(controller, setup, result);
     return;
   }
-  const LookaheadOptions options{.w = spec.w,
-                                 .box_half_width = config.box_half_width,
-                                 .candidates = config.candidates,
-                                 .keep_drawing = config.keep_drawing};
+  const LookaheadOptions options = lookahead_options(config, spec, twin.control_dimension());
   LookaheadController<Filter, AnySampler, ExpectedQuality, AnyExplorationLoss> controller(
       std::move(filter),
       AnySampler(config.sampler, twin.control_dimension(),

@@ -1,5 +1,6 @@
 #include "twincal/experiments/experiment_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -20,6 +21,12 @@ std::string ExperimentConfig::group_name() const {
 double ExperimentConfig::filter_measurement_variance() const {
   if (measurement_variance) return *measurement_variance;
   return twin_case == TwinCase::door ? 1e-6 : 1e-4;  // the paper's σz², Sec. 2.4
+}
+
+Index ExperimentConfig::candidate_count(Index d) const {
+  constexpr Index largest_exponent = 62;  // 2^62 still fits an Index
+  const Index count = candidates.value_or(Index{1} << std::min(Index{2} + d, largest_exponent));
+  return candidate_cap ? std::min(count, *candidate_cap) : count;
 }
 
 std::optional<std::string> ExperimentConfig::validate() const {
@@ -56,7 +63,9 @@ std::optional<std::string> ExperimentConfig::validate() const {
   if (controllers.empty()) return "controllers is empty; rule: must name >= 1 controller";
   for (std::size_t i = 0; i < controllers.size(); ++i) {
     const ControllerSpec& c = controllers[i];
-    if (c.kind == ControllerSpec::Kind::lookahead && !(c.w >= 0.0 && c.w <= 1.0)) {
+    const bool weighted =
+        c.kind == ControllerSpec::Kind::lookahead || c.kind == ControllerSpec::Kind::per_component;
+    if (weighted && !(c.w >= 0.0 && c.w <= 1.0)) {
       return fmt::format("controllers[{}] has w = {}; rule: w must lie in [0, 1]", i, c.w);
     }
     for (std::size_t j = 0; j < i; ++j) {
@@ -68,6 +77,9 @@ std::optional<std::string> ExperimentConfig::validate() const {
   }
   if (candidates && *candidates < 1) {
     return fmt::format("candidates is {}; rule: must be >= 1 (unset: 2^(2+d))", *candidates);
+  }
+  if (candidate_cap && *candidate_cap < 1) {
+    return fmt::format("candidate_cap is {}; rule: must be >= 1 (unset: no cap)", *candidate_cap);
   }
   if (runs < 1) return fmt::format("runs is {}; rule: must be >= 1", runs);
   if (assemblies < 1) return fmt::format("assemblies is {}; rule: must be >= 1", assemblies);
@@ -173,6 +185,7 @@ const std::map<std::string, Field, std::less<>>& fields() {
     t["exploration"] =
         choice(&ExperimentConfig::exploration, "exploration", &parse_exploration_kind);
     t["candidates"] = optional(&ExperimentConfig::candidates, "candidates");
+    t["candidate_cap"] = optional(&ExperimentConfig::candidate_cap, "candidate_cap");
     t["keep_drawing"] = plain(&ExperimentConfig::keep_drawing, "keep_drawing");
     t["box_half_width"] = plain(&ExperimentConfig::box_half_width, "box_half_width");
     t["measurement_variance"] =

@@ -79,13 +79,17 @@ std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& e
 
 std::string format_summary(const std::vector<SummaryRow>& rows) {
   std::size_t group_width = 5;
-  for (const SummaryRow& row : rows) group_width = std::max(group_width, row.group.size());
-  std::string out = fmt::format("{:<{}}  {:<10} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", "group",
-                                group_width, "controller", "runs", "diverged", "med (z-z*)/z*",
-                                "med |du-du*|", "us/assembly", "Q/assembly");
+  std::size_t controller_width = 10;
   for (const SummaryRow& row : rows) {
-    out += fmt::format("{:<{}}  {:<10} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", row.group,
-                       group_width, row.controller, row.runs, row.divergences,
+    group_width = std::max(group_width, row.group.size());
+    controller_width = std::max(controller_width, row.controller.size());
+  }
+  std::string out = fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", "group",
+                                group_width, "controller", controller_width, "runs", "diverged",
+                                "med (z-z*)/z*", "med |du-du*|", "us/assembly", "Q/assembly");
+  for (const SummaryRow& row : rows) {
+    out += fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", row.group,
+                       group_width, row.controller, controller_width, row.runs, row.divergences,
                        cell(row.median_relative_residual, 4), cell(row.median_estimation_error, 4),
                        cell(1e6 * row.seconds_per_assembly, 1),
                        cell(row.q_evaluations_per_assembly, 1));

@@ -41,14 +41,23 @@ std::string value_text(const json& value) {
 
 }  // namespace
 
-std::vector<ExperimentGroup> paper_study(std::span<const TwinCase> cases,
-                                         const ExperimentConfig& base) {
+namespace {
+
+// Studies that name their own groups refuse a named base.
+void require_unnamed(const ExperimentConfig& base) {
   if (!base.name.empty()) {
     throw InvalidArgumentError(
-        "base.name", fmt::format("base.name: is \"{}\"; rule: must be empty (each group is named "
-                                 "<case>/<locators>)",
+        "base.name", fmt::format("base.name: is \"{}\"; rule: must be empty (the study names "
+                                 "its groups)",
                                  base.name));
   }
+}
+
+}  // namespace
+
+std::vector<ExperimentGroup> paper_study(std::span<const TwinCase> cases,
+                                         const ExperimentConfig& base) {
+  require_unnamed(base);
   std::vector<ExperimentGroup> groups;
   for (const TwinCase twin_case : cases) {
     for (const char* locators : {"A", "B", "C", "ABC"}) {
@@ -57,6 +66,40 @@ std::vector<ExperimentGroup> paper_study(std::span<const TwinCase> cases,
       group.config.locators = locators;
       groups.push_back(std::move(group));
     }
+  }
+  return groups;
+}
+
+std::vector<ExperimentGroup> scaling_study(TwinCase twin_case, std::span<const Index> dimensions,
+                                           const ExperimentConfig& base) {
+  require_unnamed(base);
+  std::vector<ExperimentGroup> groups;
+  if (twin_case != TwinCase::analytic) {
+    if (!dimensions.empty()) {
+      throw InvalidArgumentError(
+          "dimensions", fmt::format("dimensions: are given for case {}; rule: only the analytic "
+                                    "twin's d is free (body and door run locator sets A, ABC, all)",
+                                    to_string(twin_case)));
+    }
+    for (const char* locators : {"A", "ABC", "all"}) {
+      ExperimentGroup group{base, json{{"study", "scaling"}, {"locators", locators}}};
+      group.config.twin_case = twin_case;
+      group.config.locators = locators;
+      groups.push_back(std::move(group));
+    }
+    return groups;
+  }
+  for (const Index d : dimensions) {
+    if (d < 1) {
+      throw InvalidArgumentError(
+          "dimensions", fmt::format("dimensions: holds {}; rule: every d must be >= 1", d));
+    }
+    ExperimentGroup group{base, json{{"study", "scaling"}, {"dimension", d}}};
+    group.config.twin_case = twin_case;
+    group.config.locators = "all";
+    group.config.analytic_dimension = d;
+    group.config.name = fmt::format("analytic/all/d={}", d);
+    groups.push_back(std::move(group));
   }
   return groups;
 }

@@ -14,8 +14,10 @@
 ///      changes of velocity detected); otherwise from a random-walk filter (eq. 5c) updated with
 ///      sigma points of the Scheme policy;
 ///   4. a known probe p (the Probe policy, ThompsonProbe by default: a draw from N(0, s²P); p = 0
-///      without a model that passed its check) and u_t = clip(u0 + δû + p) to the twin's locator
-///      bounds, so a lost estimate never drives the fixture outside its range;
+///      without a model that passed its check) and u_t = clip(u0 + p) + clamp(δû): the twin's
+///      locator bounds hold in the twin's frame (u_t − δû), and the correction is at most
+///      ActiveOptions::max_offset_fraction of the box width, so a twin optimum at its bound can
+///      be corrected and a lost estimate cannot drive the fixture far outside its range;
 ///   5. observe: z_t joins the estimator's history (or updates the random-walk filter, with an
 ///      innovation gate that inflates an overconfident P, process noise adapted to the
 ///      normalized innovations, and a floor and a ceiling on P's eigenvalues).
@@ -121,6 +123,7 @@ class ActiveCalibrationController {
     process_variance_ = options_.process_variance;
     const VectorX width = twin.upper_bounds() - twin.lower_bounds();
     max_probe_ = options_.max_probe_fraction * width;
+    max_offset_ = options_.max_offset_fraction * width;
     covariance_ceiling_ = std::pow(options_.covariance_ceiling_fraction * width.minCoeff(), 2);
     probe_vector_.resize(d);
     control_.resize(d);
@@ -200,9 +203,9 @@ class ActiveCalibrationController {
     // corrected (the baseline's u0 plus the probe): a twin whose quality hardly depends on the
     // offset would otherwise be corrected by a fit of its model's errors.
     step_.corrected = !quadratic_ || estimator_.significant() || restarted_;
-    control_ = center_ + probe_vector_;
-    if (step_.corrected) control_ += mean_;
-    control_ = control_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
+    control_ =
+        (center_ + probe_vector_).cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
+    if (step_.corrected) control_ += mean_.cwiseMax(-max_offset_).cwiseMin(max_offset_);
     report_.control = control_;
     report_.quality_evaluations = evaluations;
     pending_ = true;
@@ -364,6 +367,7 @@ class ActiveCalibrationController {
   ControlVector mean_;
   CovarianceMatrix covariance_;
   double process_variance_ = 0.0;
+  ControlVector max_offset_;
   ControlVector max_probe_;  // the ProbeContext's type: no converted temporary per assembly
   double covariance_ceiling_ = 0.0;
   // Per-assembly state and workspaces, sized once.

@@ -36,6 +36,11 @@ struct ActiveOptions {
   double max_horizon = 100.0;
   /// Largest probe per locator, as a fraction of the twin's box width there.
   double max_probe_fraction = 0.25;
+  /// Largest correction |δû_i| applied to the control, as a fraction of the twin's box width
+  /// there. The box bounds the twin's frame; the plant's is shifted by δu*, so the control is
+  /// clip(u0 + p, box) + clamp(δû, ±max_offset_fraction·width): a twin optimum at its bound can
+  /// still be corrected, and a lost estimate moves the fixture at most this far outside the box.
+  double max_offset_fraction = 0.5;
   /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
   /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;
@@ -71,6 +76,9 @@ struct ActiveOptions {
     }
     if (!(max_probe_fraction > 0.0 && max_probe_fraction <= 1.0)) {
       return fmt::format("max_probe_fraction is {}; it must lie in (0, 1]", max_probe_fraction);
+    }
+    if (!(max_offset_fraction >= 0.0 && max_offset_fraction <= 1.0)) {
+      return fmt::format("max_offset_fraction is {}; it must lie in [0, 1]", max_offset_fraction);
     }
     if (!(innovation_gate > 0.0) || !std::isfinite(innovation_gate)) {
       return fmt::format("innovation_gate is {}; it must be finite and > 0", innovation_gate);

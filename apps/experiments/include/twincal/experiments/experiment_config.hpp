@@ -44,6 +44,9 @@ struct ExperimentConfig {
   ExplorationKind exploration = ExplorationKind::trace;
   /// Candidates per assembly, eq. (14); unset: the paper's 2^(2+d).
   std::optional<Index> candidates{};
+  /// Largest candidate count per assembly: caps `candidates` (or 2^(2+d)) so that a study over d
+  /// can keep the paper's controllers where they are feasible; unset: no cap.
+  std::optional<Index> candidate_cap{};
   /// Draw further batches until `candidates` survive U_t (the paper draws one).
   bool keep_drawing = false;
   /// Half-width of U_t around u0 + δû, eq. (14).
@@ -76,6 +79,9 @@ struct ExperimentConfig {
   [[nodiscard]] std::string group_name() const;
   /// The σz² the filter uses (measurement_variance or the case's default).
   [[nodiscard]] double filter_measurement_variance() const;
+  /// Candidates per assembly of a w-controller over d locators: `candidates` (unset: the
+  /// paper's 2^(2+d), saturating at 2^62) capped at `candidate_cap`.
+  [[nodiscard]] Index candidate_count(Index d) const;
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 

@@ -26,6 +26,17 @@ namespace twincal {
 [[nodiscard]] std::vector<ExperimentGroup> paper_study(std::span<const TwinCase> cases,
                                                        const ExperimentConfig& base = {});
 
+/// The scaling study: cost and accuracy against the number d of controlled locators. For the
+/// analytic twin, one group per d in `dimensions` with every locator controlled, named
+/// "analytic/all/d=<d>"; for body and door (whose d is fixed), locator sets A, ABC and all
+/// (`dimensions` must then be empty). Groups are tagged {"study": "scaling"} and their
+/// "dimension" or "locators"; their d is the length of the twin's locator list in the results.
+/// `base`'s case, locators and dimension are replaced (its name must be empty).
+/// @throws InvalidArgumentError for a named base, a d < 1, dimensions given for a FEM case.
+[[nodiscard]] std::vector<ExperimentGroup> scaling_study(TwinCase twin_case,
+                                                         std::span<const Index> dimensions,
+                                                         const ExperimentConfig& base = {});
+
 /// The groups of a sweep document (see the file comment). Axes are expanded in the order of the
 /// document's keys (alphabetical), the last one fastest.
 /// @throws InvalidArgumentError naming a missing "base", an empty axis, or a bad value.
