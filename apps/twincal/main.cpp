@@ -2,6 +2,7 @@
 // twins, and make their figures. `twincal --help`, `twincal <command> --help`.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,15 @@ int main(int argc, char** argv) {
     if (command == "summary") return twincal::cli::summary_command(rest);
     fmt::print(stderr, "twincal: unknown command \"{}\"\n\n{}", command, usage);
     return 2;
+  } catch (const std::bad_alloc&) {
+    // The settings' own limits (docs/cli.md) catch the known cases; this names the way out of
+    // the others.
+    fmt::print(stderr,
+               "twincal {}: error: out of memory (std::bad_alloc); rule: the study must fit in "
+               "memory: lower the dimension, the candidates (--candidates, candidate_cap) or "
+               "--threads\n",
+               command);
+    return 1;
   } catch (const std::exception& error) {
     fmt::print(stderr, "twincal {}: error: {}\n", command, error.what());
     return 1;

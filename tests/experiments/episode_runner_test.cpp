@@ -1,9 +1,11 @@
 #include "twincal/experiments/episode_runner.hpp"
 
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "twincal/core/error.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/experiments/twin_cases.hpp"
 #include "twincal/models/bouncing_drift.hpp"
@@ -125,6 +127,21 @@ TEST(RunEpisode, CountsTheFiltersEvaluations) {
   for (Index t = 1; t < active.steps; ++t) {
     EXPECT_TRUE(active.q_evaluations(t) == 6.0 || active.q_evaluations(t) == 12.0) << t;
   }
+}
+
+TEST(RunEpisode, RefusesACandidateCountBeyondTheLimitNamingTheCap) {
+  // d = 21: the paper's 2^(2+d) = 2^23 candidates per assembly pass the 2^22 limit.
+  ExperimentConfig config = episode_config(21, "all");
+  const CaseTwin twin = make_case_twin(config);
+  try {
+    (void)run_episode(twin, config, ControllerSpec::lookahead(1.0), 0);
+    FAIL() << "no error";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_EQ(error.argument(), "candidates");
+    EXPECT_NE(std::string(error.what()).find("candidate_cap"), std::string::npos) << error.what();
+  }
+  config.candidate_cap = 64;
+  EXPECT_EQ(run_episode(twin, config, ControllerSpec::lookahead(1.0), 0).steps, config.assemblies);
 }
 
 TEST(RunEpisode, DetectsDivergenceAndStopsOrContinuesAsConfigured) {

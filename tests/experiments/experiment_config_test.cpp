@@ -85,6 +85,11 @@ TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
   config = {};
   config.name = "a,b";
   EXPECT_TRUE(config.validate().has_value());
+  config = {};
+  config.analytic_dimension = 100000;  // a d x d curvature of 80 GB
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("analytic_dimension is 100000; rule: must lie in [1, 1024]"),
+            std::string::npos);
 }
 
 TEST(ExperimentConfig, CandidateCountIsThePapersOrTheSetCountCapped) {

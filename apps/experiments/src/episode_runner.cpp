@@ -172,6 +172,18 @@ EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
         "assemblies", fmt::format("assemblies: is {}; rule: must be <= the twin's {} assemblies",
                                   config.assemblies, available));
   }
+  const Index d = twin.control_dimension();
+  const bool weighted = controller.kind == ControllerSpec::Kind::lookahead ||
+                        controller.kind == ControllerSpec::Kind::per_component;
+  const Index candidates =
+      config.candidate_count(controller.kind == ControllerSpec::Kind::per_component ? 1 : d);
+  if (weighted && candidates > ExperimentConfig::max_candidates) {
+    throw InvalidArgumentError(
+        "candidates",
+        fmt::format("candidates: {} per assembly for {} at d = {}; rule: must be <= {} (set "
+                    "candidate_cap, or --candidates)",
+                    candidates, controller.label(), d, ExperimentConfig::max_candidates));
+  }
   detail::EpisodeSetup setup;
   setup.twin = &twin;
   setup.config = &config;
@@ -185,7 +197,6 @@ EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
   result.run = run;
   result.run_seed = setup.run.seed();
   result.assemblies = setup.order;
-  const Index d = twin.control_dimension();
   detail::size_result(result, d, config.assemblies);
   if (d == 1) {
     detail::run_with_dimension<1>(setup, controller, result);

@@ -56,8 +56,11 @@ std::optional<std::string> ExperimentConfig::validate() const {
   if (!std::isfinite(beta) || !std::isfinite(kappa)) {
     return fmt::format("beta and kappa are {} and {}; rule: must be finite", beta, kappa);
   }
-  if (analytic_dimension < 1) {
-    return fmt::format("analytic_dimension is {}; rule: must be >= 1", analytic_dimension);
+  if (analytic_dimension < 1 || analytic_dimension > max_analytic_dimension) {
+    return fmt::format(
+        "analytic_dimension is {}; rule: must lie in [1, {}] (the analytic twin "
+        "holds and factors a d x d curvature)",
+        analytic_dimension, max_analytic_dimension);
   }
   if (locators.empty()) return "locators is empty; rule: must name >= 1 locator";
   if (controllers.empty()) return "controllers is empty; rule: must name >= 1 controller";

@@ -20,6 +20,13 @@
 namespace twincal {
 
 struct ExperimentConfig {
+  /// Largest analytic_dimension: the analytic twin holds and factors a d × d curvature, and the
+  /// active controller a 2d × 2d fit, per assembly.
+  static constexpr Index max_analytic_dimension = 1024;
+  /// Largest candidate count per assembly of a w-controller (2^22; the paper's 2^(2+d) passes
+  /// it beyond d = 20): more must be capped with `candidate_cap`.
+  static constexpr Index max_candidates = Index{1} << 22;
+
   /// Name of the group in the results; empty: "<case>/<locators>".
   std::string name;
 
