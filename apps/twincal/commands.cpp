@@ -66,14 +66,23 @@ json read_json_file(const std::string& path) {
   }
 }
 
-std::vector<ControllerSpec> parse_controllers(const std::string& list) {
-  if (list == "paper") return ControllerSpec::paper();
-  std::vector<ControllerSpec> specs;
+// The items of a comma-separated list ("" is one empty item, which the parsers refuse).
+std::vector<std::string_view> split_commas(std::string_view list) {
+  std::vector<std::string_view> items;
   std::size_t begin = 0;
   while (begin <= list.size()) {
     const std::size_t end = std::min(list.find(',', begin), list.size());
-    specs.push_back(ControllerSpec::parse(std::string_view(list).substr(begin, end - begin)));
+    items.push_back(list.substr(begin, end - begin));
     begin = end + 1;
+  }
+  return items;
+}
+
+std::vector<ControllerSpec> parse_controllers(const std::string& list) {
+  if (list == "paper") return ControllerSpec::paper();
+  std::vector<ControllerSpec> specs;
+  for (const std::string_view item : split_commas(list)) {
+    specs.push_back(ControllerSpec::parse(item));
   }
   return specs;
 }
@@ -236,10 +245,7 @@ Table 1.
 // "1,2,3" as a list of integers.
 std::vector<Index> parse_dimensions(const std::string& list) {
   std::vector<Index> dimensions;
-  std::size_t begin = 0;
-  while (begin <= list.size()) {
-    const std::size_t end = std::min(list.find(',', begin), list.size());
-    const std::string_view item = std::string_view(list).substr(begin, end - begin);
+  for (const std::string_view item : split_commas(list)) {
     Index d = 0;
     const auto [last, error] = std::from_chars(item.data(), item.data() + item.size(), d);
     if (error != std::errc{} || last != item.data() + item.size()) {
@@ -249,7 +255,6 @@ std::vector<Index> parse_dimensions(const std::string& list) {
                                     item));
     }
     dimensions.push_back(d);
-    begin = end + 1;
   }
   return dimensions;
 }

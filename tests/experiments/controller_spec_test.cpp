@@ -49,5 +49,13 @@ TEST(ControllerSpec, OnlyFilterBasedControllersEstimate) {
   EXPECT_TRUE(ControllerSpec::active().estimates());
 }
 
+TEST(ControllerSpec, OnlyTheWControllersUseW) {
+  EXPECT_TRUE(ControllerSpec::lookahead(0.5).uses_w());
+  EXPECT_TRUE(ControllerSpec::per_component(0.5).uses_w());
+  EXPECT_FALSE(ControllerSpec::default_controller().uses_w());
+  EXPECT_FALSE(ControllerSpec::active().uses_w());
+  EXPECT_FALSE(ControllerSpec::baseline().uses_w());
+}
+
 }  // namespace
 }  // namespace twincal

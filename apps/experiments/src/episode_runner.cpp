@@ -173,11 +173,9 @@ EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
                                   config.assemblies, available));
   }
   const Index d = twin.control_dimension();
-  const bool weighted = controller.kind == ControllerSpec::Kind::lookahead ||
-                        controller.kind == ControllerSpec::Kind::per_component;
   const Index candidates =
       config.candidate_count(controller.kind == ControllerSpec::Kind::per_component ? 1 : d);
-  if (weighted && candidates > ExperimentConfig::max_candidates) {
+  if (controller.uses_w() && candidates > ExperimentConfig::max_candidates) {
     throw InvalidArgumentError(
         "candidates",
         fmt::format("candidates: {} per assembly for {} at d = {}; rule: must be <= {} (set "

@@ -66,9 +66,7 @@ std::optional<std::string> ExperimentConfig::validate() const {
   if (controllers.empty()) return "controllers is empty; rule: must name >= 1 controller";
   for (std::size_t i = 0; i < controllers.size(); ++i) {
     const ControllerSpec& c = controllers[i];
-    const bool weighted =
-        c.kind == ControllerSpec::Kind::lookahead || c.kind == ControllerSpec::Kind::per_component;
-    if (weighted && !(c.w >= 0.0 && c.w <= 1.0)) {
+    if (c.uses_w() && !(c.w >= 0.0 && c.w <= 1.0)) {
       return fmt::format("controllers[{}] has w = {}; rule: w must lie in [0, 1]", i, c.w);
     }
     for (std::size_t j = 0; j < i; ++j) {

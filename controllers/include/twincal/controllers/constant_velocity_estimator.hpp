@@ -349,7 +349,8 @@ class ConstantVelocityEstimator {
   }
 
   // Gauss–Newton with step halving from `start`; writes the minimizer to `out` and returns the
-  // total cost (data_cost_ keeps its data part). normal_ holds the Gauss–Newton matrix there.
+  // total cost (data_cost_ keeps its data part). The Gauss–Newton matrix at the estimate is
+  // formed once, by finish().
   double solve(const StateVector& start, Index time, StateVector& out) {
     out = start;
     double data = evaluate(out, time, true);
@@ -372,11 +373,9 @@ class ConstantVelocityEstimator {
       }
       if (!improved) break;
       out = trial_;
-      evaluate(out, time, true);
       if (scale * step_.norm() <= options_.step_tolerance * (1.0 + out.norm())) break;
+      if (iteration + 1 < options_.max_iterations) evaluate(out, time, true);  // for assemble()
     }
-    evaluate(out, time, true);
-    assemble(out);
     data_cost_ = data;
     return cost;
   }

@@ -46,6 +46,11 @@ struct ControllerSpec {
   /// @throws InvalidArgumentError naming the text and the accepted forms; w outside [0, 1].
   [[nodiscard]] static ControllerSpec parse(std::string_view text);
 
+  /// Whether the controller is weighted by `w` (the w-controllers, per component or not).
+  [[nodiscard]] bool uses_w() const noexcept {
+    return kind == Kind::lookahead || kind == Kind::per_component;
+  }
+
   /// Whether the controller runs a filter (and so has δû_t, P_t and can diverge).
   [[nodiscard]] bool estimates() const noexcept {
     return kind != Kind::baseline && kind != Kind::nominal;
