@@ -28,10 +28,16 @@ twincal_install_dependencies() {
     "${missing[@]}" >/dev/null
 }
 
-# twincal_build <build-dir> [cmake -D options...]: configures once, then builds incrementally.
+# twincal_build <build-dir> [--target T] [cmake -D options...]: configures once, then builds
+# incrementally — everything, or only target T and what it needs.
 twincal_build() {
   local build_dir="$1"
   shift
+  local target=()
+  if [ "${1:-}" = "--target" ]; then
+    target=(--target "$2")
+    shift 2
+  fi
   local launcher=()
   if command -v ccache >/dev/null; then
     launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
@@ -43,5 +49,5 @@ twincal_build() {
     cmake "$build_dir" "$@" >/dev/null
   fi
   twincal_log "building $build_dir with $TWINCAL_JOBS jobs"
-  cmake --build "$build_dir" --parallel "$TWINCAL_JOBS"
+  cmake --build "$build_dir" --parallel "$TWINCAL_JOBS" "${target[@]}"
 }

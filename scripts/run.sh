@@ -12,7 +12,8 @@ out="${1:-$TWINCAL_ROOT/results/paper}"
 [ $# -gt 0 ] && shift
 
 twincal_install_dependencies
-twincal_build "$TWINCAL_ROOT/build" -DCMAKE_BUILD_TYPE=Release
+# Only the program and its libraries: the tests and benchmarks are scripts/test.sh's.
+twincal_build "$TWINCAL_ROOT/build" --target twincal -DCMAKE_BUILD_TYPE=Release
 cli="$TWINCAL_ROOT/build/apps/twincal/twincal"
 "$cli" paper --out "$out" "$@"
 "$cli" plot --results "$out" --out "$out/figures"

@@ -189,4 +189,30 @@ template <typename Derived>
   detail::throw_not_pd(name, report.smallest_eigenvalue, " (unknown repair policy)");
 }
 
+/// cholesky() into caller-owned storage, for hot loops: `lower` receives L (strict upper part
+/// zero), factored in place; when a repair was needed, `matrix` is replaced by the repaired
+/// matrix L Lᵀ. Allocates nothing, at any size, when no repair is needed and `lower` already has
+/// the size of `matrix`. Only the lower triangle of `matrix` is read.
+/// @throws as cholesky(); `lower` is then unspecified and `matrix` unchanged.
+template <int N>
+CholeskyReport cholesky_into(SquareMatrix<N>& matrix, SquareMatrix<N>& lower,
+                             const CholeskyOptions& options = {},
+                             std::string_view name = "matrix") {
+  require_valid("CholeskyOptions", options);
+  require_square(name, matrix);
+  require_finite(name, matrix);
+  lower.resize(matrix.rows(), matrix.cols());
+  lower.template triangularView<Eigen::Lower>() = matrix;
+  // Eigen's in-place decomposition: LLT<Ref<…>> factors `lower`'s own storage.
+  const Eigen::LLT<Eigen::Ref<SquareMatrix<N>>, Eigen::Lower> in_place(lower);
+  if (in_place.info() == Eigen::Success && (lower.diagonal().array() > 0.0).all()) {
+    lower.template triangularView<Eigen::StrictlyUpper>().setZero();
+    return CholeskyReport{};
+  }
+  CholeskyResult<N> repaired = cholesky(matrix, options, name);  // the rare path may allocate
+  lower = repaired.factor.lower();
+  if (repaired.report.repaired()) matrix = repaired.factor.covariance();
+  return repaired.report;
+}
+
 }  // namespace twincal

@@ -53,29 +53,39 @@ class QuadraticQualityMeasurement {
   [[nodiscard]] double measure(const Vector<N>& state, const Inputs& inputs) const {
     require_inputs(inputs);
     require_dimension("state", state.size(), dimension());
-    Vector<N> e = inputs.control - inputs.assembly;
-    e -= state;
-    return quality(e);
+    return quality(inputs.control - inputs.assembly - state);
   }
 
-  /// out(i) = h(states.col(i); a, u) for every column.
+  /// out(i) = h(states.col(i); a, u) for every column. Allocates nothing.
   void measure_batch(const Eigen::Ref<const MatrixX>& states, const Inputs& inputs,
                      Eigen::Ref<VectorX> out) const {
     require_inputs(inputs);
     require_dimension("states", states.rows(), dimension(), "rows");
     require_dimension("out", out.size(), states.cols());
-    const Vector<N> corrected = inputs.control - inputs.assembly;
-    Vector<N> e(dimension());
     for (Index i = 0; i < states.cols(); ++i) {
-      e = corrected - states.col(i);
-      out(i) = quality(e);
+      out(i) = quality(inputs.control - inputs.assembly - states.col(i));
     }
   }
 
  private:
-  [[nodiscard]] double quality(const Vector<N>& e) const {
+  // sqrt(q0 + eᵀHe) for an expression e, without touching the heap: e and He live in buffers
+  // on the stack up to kStackDimension entries (one matrix-vector product); beyond that, e is
+  // read entry by entry (n dot products, slower but still allocation-free).
+  static constexpr int kStackDimension = 64;
+  using StackVector = Eigen::Matrix<double, N, 1, 0, (N == Dynamic ? kStackDimension : N), 1>;
+
+  template <typename Error>
+  [[nodiscard]] double quality(const Eigen::MatrixBase<Error>& e) const {
+    double form = 0.0;
+    if (N != Dynamic || e.size() <= kStackDimension) {
+      const StackVector error = e;
+      StackVector weighted(e.size());
+      weighted.noalias() = weight_ * error;
+      form = error.dot(weighted);
+    } else {
+      for (Index c = 0; c < weight_.cols(); ++c) form += e(c) * weight_.col(c).dot(e);
+    }
     // H is PSD, so eᵀHe >= 0 up to round-off; clamp that round-off away before the root.
-    const double form = e.dot(weight_ * e);
     return std::sqrt(offset_ + std::max(form, 0.0));
   }
 

@@ -20,8 +20,12 @@
 /// preview's P⁺ for a candidate u_t is the P_{t+1}(u_t) of the exploration loss, eq. (12).
 ///
 /// Errors: bad arguments, non-finite model outputs, a non-finite z and failed factorizations throw
-/// typed twincal errors before any member changes (strong guarantee). Fixed sizes allocate
-/// nothing per step (the error paths aside).
+/// typed twincal errors before the filter's state changes (strong guarantee).
+///
+/// Allocation: predict and update work in buffers sized at construction, so a step allocates
+/// nothing at any size, Dynamic included (the first update sizes the kept preview; the error
+/// paths, covariance repairs and the Joseph form at Dynamic sizes aside). preview(inputs) returns
+/// a new Preview; preview(inputs, out) reuses one.
 
 #include <algorithm>
 #include <cstdint>
@@ -112,6 +116,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     P_ = initial_covariance;
     points_.resize(n, m);
     draw_points(x_, P_, "initial_covariance", points_);
+    workspace_.resize(n, m);
     last_update_.gain = StateVector::Zero(n);
   }
 
@@ -126,24 +131,23 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     require_shape("process_noise", process_noise, n, n);
     require_finite("process_noise", process_noise);
 
-    PointMatrix propagated(n, num_points());
-    propagate_points(state_model_, points_, propagated);
-    StateVector prior_mean(n);
-    prior_mean.noalias() = propagated * mean_weights_;
-    CovarianceMatrix prior_covariance =
-        weighted_covariance(propagated, covariance_weights_, prior_mean);
-    prior_covariance += process_noise;
-    if (options_.symmetrize) symmetrize(prior_covariance);
+    // Into the workspace first: the state changes only once nothing can throw.
+    Workspace& w = workspace_;
+    propagate_points(state_model_, points_, w.propagated, w.state);
+    w.mean.noalias() = w.propagated * mean_weights_;
+    weighted_covariance(w.propagated, covariance_weights_, w.mean, w.centred, w.weighted,
+                        w.covariance);
+    w.covariance += process_noise;
+    if (options_.symmetrize) symmetrize(w.covariance);
 
     if (options_.refresh == SigmaPointRefresh::redraw) {
-      PointMatrix redrawn(n, num_points());
-      draw_points(prior_mean, prior_covariance, "prior covariance", redrawn);
-      points_ = redrawn;
+      cholesky_into(w.covariance, w.factor, options_.factorization, "prior covariance");
+      scheme_.generate(w.mean, w.factor, points_);
     } else {
-      points_ = propagated;
+      points_.swap(w.propagated);
     }
-    x_ = prior_mean;
-    P_ = prior_covariance;
+    x_.swap(w.mean);
+    P_.swap(w.covariance);
     ++revision_;
   }
 
@@ -151,9 +155,18 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   /// (one batch call when the model has `measure_batch`), then `preview(values)`.
   /// @throws as the measurement model and `preview(values)`.
   [[nodiscard]] Preview preview(const Inputs& inputs) const {
-    WeightVector values(num_points());
-    evaluate_measurements(measurement_model_, points_, inputs, values);
-    return preview(values);
+    Preview p;
+    preview(inputs, p);
+    return p;
+  }
+
+  /// preview(inputs) into `out`: allocates nothing, at any size, once `out` holds a preview of
+  /// this filter (and the measurement model allocates nothing) — the form for loops over many
+  /// candidate inputs. @throws as preview(inputs); `out` is then unspecified.
+  void preview(const Inputs& inputs, Preview& out) const {
+    out.measurements.resize(num_points());
+    evaluate_measurements(measurement_model_, points_, inputs, out.measurements);
+    fill_preview(out.measurements, out);
   }
 
   /// The update given the measurement values γ_i = h(χ_i) at `sigma_points()` (e.g. from a
@@ -163,21 +176,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   template <typename Derived>
   [[nodiscard]] Preview preview(const Eigen::MatrixBase<Derived>& values) const {
     Preview p;
-    measurement_statistics(points_, x_, mean_weights_, covariance_weights_, values,
-                           measurement_model_.noise_variance(), p);
-    if (options_.joseph_form) {
-      p.posterior_covariance = joseph_posterior(p);
-    } else {
-      p.posterior_covariance = P_;
-      p.posterior_covariance.noalias() -= p.gain * (p.innovation_variance * p.gain.transpose());
-    }
-    if (options_.symmetrize) symmetrize(p.posterior_covariance);
-    CholeskyResult<dimension_at_compile_time> factored =
-        cholesky(p.posterior_covariance, options_.factorization, "posterior covariance");
-    if (factored.report.repaired()) p.posterior_covariance = factored.factor.covariance();
-    p.posterior_factor = factored.factor.lower();
-    p.factorization = factored.report;
-    p.revision = revision_;
+    fill_preview(values, p);
     return p;
   }
 
@@ -194,15 +193,14 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     }
     require_finite("z", z);
     const double innovation = z - preview.predicted_measurement;
-    StateVector posterior_mean = x_;
+    StateVector& posterior_mean = workspace_.mean;
+    posterior_mean = x_;
     posterior_mean.noalias() += preview.gain * innovation;
     require_finite("posterior state", posterior_mean);
-    PointMatrix next(dimension(), num_points());
-    scheme_.generate(posterior_mean, preview.posterior_factor, next);
 
-    x_ = posterior_mean;
+    x_.swap(posterior_mean);
     P_ = preview.posterior_covariance;
-    points_ = next;
+    scheme_.generate(x_, preview.posterior_factor, points_);
     last_update_.innovation = innovation;
     last_update_.innovation_variance = preview.innovation_variance;
     last_update_.gain = preview.gain;
@@ -212,10 +210,12 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     ++updates_;
   }
 
-  /// Measurement update with z for `inputs`: `commit(preview(inputs), z)`.
+  /// Measurement update with z for `inputs`: `commit(preview(inputs), z)`, through a preview
+  /// kept by the filter (no allocation per step after the first, at any size).
   void update(double z, const Inputs& inputs) {
     require_finite("z", z);  // before spending evaluations on a measurement that cannot be used
-    commit(preview(inputs), z);
+    preview(inputs, workspace_.preview);
+    commit(workspace_.preview, z);
   }
 
   // --- state ---------------------------------------------------------------------------------
@@ -284,14 +284,52 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   }
 
  private:
+  // Buffers of predict and update, sized at construction: reused, they make the steps
+  // allocation-free at Dynamic sizes too. Not state: copies and restore() need not match them.
+  struct Workspace {
+    void resize(Index n, Index m) {
+      propagated.resize(n, m);
+      centred.resize(n, m);
+      weighted.resize(n, m);
+      state.resize(n);
+      mean.resize(n);
+      covariance.resize(n, n);
+      factor.resize(n, n);
+    }
+    PointMatrix propagated;
+    PointMatrix centred;
+    PointMatrix weighted;
+    StateVector state;
+    StateVector mean;
+    CovarianceMatrix covariance;
+    CovarianceMatrix factor;
+    Preview preview;
+  };
+
   // Factors `covariance` (repairing it per the options, in which case the repaired matrix
   // replaces it) and writes the scheme's points for (mean, L) into `out`.
   void draw_points(const StateVector& mean, CovarianceMatrix& covariance, std::string_view name,
                    PointMatrix& out) const {
-    CholeskyResult<dimension_at_compile_time> factored =
-        cholesky(covariance, options_.factorization, name);
-    if (factored.report.repaired()) covariance = factored.factor.covariance();
-    scheme_.generate(mean, factored.factor.lower(), out);
+    CovarianceMatrix lower(covariance.rows(), covariance.cols());
+    cholesky_into(covariance, lower, options_.factorization, name);
+    scheme_.generate(mean, lower, out);
+  }
+
+  // The z-independent update for `values` (may be p.measurements itself) into `p`.
+  template <typename Derived>
+  void fill_preview(const Eigen::MatrixBase<Derived>& values, Preview& p) const {
+    measurement_statistics(points_, x_, mean_weights_, covariance_weights_, values,
+                           measurement_model_.noise_variance(), p);
+    if (options_.joseph_form) {
+      p.posterior_covariance = joseph_posterior(p);
+    } else {
+      p.posterior_covariance = P_;
+      p.posterior_covariance.noalias() -= p.gain * (p.innovation_variance * p.gain.transpose());
+    }
+    if (options_.symmetrize) symmetrize(p.posterior_covariance);
+    p.factorization = cholesky_into(p.posterior_covariance, p.posterior_factor,
+                                    options_.factorization, "posterior covariance");
+    p.revision = revision_;
   }
 
   // Joseph form with the statistically linearised measurement H = P⁻¹ Pxz (see
@@ -330,6 +368,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   CovarianceMatrix P_;
   PointMatrix points_;
   Record last_update_;
+  Workspace workspace_;
   std::uint64_t updates_ = 0;
   std::uint64_t revision_ = 0;
 };

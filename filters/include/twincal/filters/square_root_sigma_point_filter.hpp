@@ -150,7 +150,8 @@ requires(SM::dimension_at_compile_time ==
     require_finite("process_noise", process_noise);
 
     PointMatrix propagated(n, m);
-    propagate_points(state_model_, points_, propagated);
+    StateVector point(n);
+    propagate_points(state_model_, points_, propagated, point);
     StateVector prior_mean(n);
     prior_mean.noalias() = propagated * mean_weights_;
     const PointMatrix centred = propagated.colwise() - prior_mean;

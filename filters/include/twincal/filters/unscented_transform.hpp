@@ -3,7 +3,7 @@
 /// The pieces of the unscented transform (over the sigma points of the paper's eq. (11)) that
 /// SigmaPointFilter and SquareRootSigmaPointFilter share: propagating points through a state model,
 /// weighted moments, and the measurement statistics of a preview. Every function checks what it
-/// consumes for finiteness and allocates nothing for fixed sizes.
+/// consumes for finiteness and allocates nothing once its outputs and buffers have their sizes.
 
 #include <cmath>
 #include <string_view>
@@ -35,10 +35,11 @@ void require_finite_points(std::string_view name, const Eigen::MatrixBase<Derive
   }
 }
 
-/// out.col(i) = f(points.col(i)). Throws NonFiniteError when f returns a non-finite value.
+/// out.col(i) = f(points.col(i)), passing each point through `state` (the model takes a vector).
+/// Throws NonFiniteError when f returns a non-finite value.
 template <StateModel SM, int N, int M>
-void propagate_points(const SM& model, const Matrix<N, M>& points, Matrix<N, M>& out) {
-  Vector<N> state(points.rows());
+void propagate_points(const SM& model, const Matrix<N, M>& points, Matrix<N, M>& out,
+                      Vector<N>& state) {
   for (Index i = 0; i < points.cols(); ++i) {
     state = points.col(i);
     out.col(i) = model.propagate(state);
@@ -47,18 +48,22 @@ void propagate_points(const SM& model, const Matrix<N, M>& points, Matrix<N, M>&
                         "the state model must return finite states");
 }
 
-/// Σ Wc_i (χ_i − about)(χ_i − about)ᵀ.
+/// out = Σ Wc_i (χ_i − about)(χ_i − about)ᵀ, through the caller's n × M buffers `centred` and
+/// `weighted` (so that the product is one matrix product and nothing is allocated once they
+/// have their sizes).
 template <int N, int M>
-[[nodiscard]] SquareMatrix<N> weighted_covariance(const Matrix<N, M>& points,
-                                                  const Vector<M>& covariance_weights,
-                                                  const Vector<N>& about) {
-  const Matrix<N, M> centred = points.colwise() - about;
-  SquareMatrix<N> p = centred * covariance_weights.asDiagonal() * centred.transpose();
-  return p;
+void weighted_covariance(const Matrix<N, M>& points, const Vector<M>& covariance_weights,
+                         const Vector<N>& about, Matrix<N, M>& centred, Matrix<N, M>& weighted,
+                         SquareMatrix<N>& out) {
+  centred = points.colwise() - about;
+  weighted = centred * covariance_weights.asDiagonal();
+  out.noalias() = weighted * centred.transpose();
 }
 
 /// Fills the z-independent measurement statistics of `preview` from the values γ_i at the
 /// points χ_i (centred on the filter's mean x): ẑ, Pzz, S = Pzz + R, Pxz and K = Pxz/S.
+/// Allocates nothing once `preview` has the sizes of the points (`values` may be
+/// preview.measurements itself).
 /// @throws NonFiniteError (a γ_i is not finite), NotPositiveDefiniteError (S <= 0, possible with
 ///         negative weights).
 template <int N, int M, typename Values>
@@ -75,9 +80,10 @@ void measurement_statistics(const Matrix<N, M>& points, const Vector<N>& mean,
                                      i, values(i)));
   }
   preview.measurements = values;
-  preview.predicted_measurement = mean_weights.dot(preview.measurements);
-  const Vector<M> deviation = preview.measurements.array() - preview.predicted_measurement;
-  preview.measurement_variance = covariance_weights.dot(deviation.cwiseAbs2());
+  const double predicted = mean_weights.dot(preview.measurements);
+  preview.predicted_measurement = predicted;
+  preview.measurement_variance =
+      (covariance_weights.array() * (preview.measurements.array() - predicted).square()).sum();
   preview.innovation_variance = preview.measurement_variance + noise_variance;
   if (!(preview.innovation_variance > 0.0)) {
     throw NotPositiveDefiniteError(
@@ -87,8 +93,13 @@ void measurement_statistics(const Matrix<N, M>& points, const Vector<N>& mean,
                     preview.innovation_variance, preview.measurement_variance, noise_variance),
         preview.innovation_variance);
   }
-  preview.cross_covariance.noalias() =
-      (points.colwise() - mean) * covariance_weights.cwiseProduct(deviation);
+  // Column by column: a product with the centred points as an expression would need a
+  // temporary n × M matrix.
+  preview.cross_covariance.setZero(points.rows());
+  for (Index i = 0; i < points.cols(); ++i) {
+    const double weight = covariance_weights(i) * (preview.measurements(i) - predicted);
+    preview.cross_covariance.noalias() += weight * (points.col(i) - mean);
+  }
   preview.gain = preview.cross_covariance / preview.innovation_variance;
 }
 
