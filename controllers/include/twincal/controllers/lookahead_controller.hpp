@@ -20,9 +20,10 @@
 /// control, the box's centre, is the only candidate.
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
 #include <exception>
 #include <limits>
-#include <optional>
 #include <type_traits>
 #include <utility>
 
@@ -82,7 +83,7 @@ class LookaheadController {
   [[nodiscard]] ControlVector propose(const Assembly& assembly) {
     const IndividualControl u0 = optimum_(assembly);
     filter_.predict();
-    pending_.reset();
+    has_pending_ = false;
     report_.reset();
     report_.individual_control = u0.control;
     report_.optimal_quality = u0.quality;
@@ -92,7 +93,7 @@ class LookaheadController {
     try {
       choose(assembly, center);
     } catch (const std::exception& error) {
-      pending_.reset();
+      has_pending_ = false;
       report_.chosen = -1;
       report_.control = center;
       report_.fallback = error.what();
@@ -105,18 +106,18 @@ class LookaheadController {
   /// proposal (no evaluation), otherwise an ordinary update at `control`.
   void observe(const Assembly& assembly, const ControlVector& control, double z) {
     require_dimension("control", control.size(), filter_.dimension());
-    if (pending_ && control == chosen_) {
-      filter_.commit(*pending_, z);
+    if (has_pending_ && control == chosen_) {
+      filter_.commit(previews_[pending_slot_], z);
     } else {
       filter_.update(z, {assembly, control});
     }
-    pending_.reset();
+    has_pending_ = false;
   }
 
   /// Drops the proposal's preview, so the next observe evaluates the measurement afresh: for
   /// owners that change the measurement's context between propose and observe
   /// (PerComponentController).
-  void forget_proposal() noexcept { pending_.reset(); }
+  void forget_proposal() noexcept { has_pending_ = false; }
 
   [[nodiscard]] const ControlVector& offset_estimate() const noexcept { return filter_.state(); }
   [[nodiscard]] MatrixX offset_covariance() const { return filter_.covariance(); }
@@ -161,13 +162,21 @@ class LookaheadController {
     double best = std::numeric_limits<double>::infinity();
     for (Index c = 0; c < scored; ++c) {
       const double exploitation = exploit_(qualities.col(c), filter_.mean_weights());
-      Preview preview = filter_.preview(qualities.col(c));
-      const double exploration = explore_(preview.posterior_covariance);
+      // Into the kept preview that is not the best so far, where the filter offers that form:
+      // no allocation per candidate at Dynamic sizes, and a new best is a change of slot.
+      Preview& scratch = previews_[1 - pending_slot_];
+      if constexpr (requires { filter_.preview(qualities.col(c), scratch); }) {
+        filter_.preview(qualities.col(c), scratch);
+      } else {
+        scratch = filter_.preview(qualities.col(c));
+      }
+      const double exploration = explore_(scratch.posterior_covariance);
       const double loss = (1.0 - options_.w) * exploitation + options_.w * exploration;
       require_finite(fmt::format("L_w of candidate {}", c), loss);
       if (loss < best) {  // ties keep the first: the sampler's order decides
         best = loss;
-        pending_ = std::move(preview);
+        pending_slot_ = 1 - pending_slot_;
+        has_pending_ = true;
         report_.chosen = c;
         report_.exploitation = exploitation;
         report_.exploration = exploration;
@@ -189,7 +198,11 @@ class LookaheadController {
   MatrixX qualities_;
   ControlVector centre_;
   ControlVector chosen_;
-  std::optional<Preview> pending_;
+  // The chosen candidate's preview (previews_[pending_slot_], committed by observe when
+  // has_pending_) and the one being scored.
+  std::array<Preview, 2> previews_;
+  std::size_t pending_slot_ = 0;
+  bool has_pending_ = false;
   ProposalReport report_;
 };
 

@@ -180,6 +180,13 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     return p;
   }
 
+  /// preview(values) into `out`: allocates nothing once `out` holds a preview of this filter.
+  /// @throws as preview(values); `out` is then unspecified.
+  template <typename Derived>
+  void preview(const Eigen::MatrixBase<Derived>& values, Preview& out) const {
+    fill_preview(values, out);
+  }
+
   /// Completes a previewed update with the measurement z: x⁺ = x⁻ + K (z − ẑ), P⁺ from the
   /// preview, new sigma points from (x⁺, L⁺). Evaluates nothing.
   /// @throws InvalidArgumentError (the preview is not of the current state), NonFiniteError (z).
