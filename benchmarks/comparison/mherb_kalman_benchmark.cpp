@@ -1,0 +1,200 @@
+// twincal's UKF against mherb/kalman's (github.com/mherb/kalman) on the same problem: a random
+// walk (Q = 1e-3·I) measured by z = sqrt(q0 + eᵀHe), e = u − a − x, whose sensor inputs (a, u)
+// cycle through 16 positions; Merwe α = 1, β = 2, κ = 0; one predict + update per iteration.
+// Built only when TWINCAL_COMPARE_MHERB_KALMAN_DIR names a checkout of mherb/kalman (its include/
+// directory is used; nothing of it is vendored). Both libraries give the same estimates (checked
+// once per benchmark before timing), so the difference is overhead.
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+#include <kalman/MeasurementModel.hpp>
+#include <kalman/SystemModel.hpp>
+#include <kalman/UnscentedKalmanFilter.hpp>
+
+#include "twincal/filters/merwe_scaled_sigma_points.hpp"
+#include "twincal/filters/quadratic_quality_measurement.hpp"
+#include "twincal/filters/sigma_point_filter.hpp"
+
+namespace twincal::benchmarks {
+namespace {
+
+constexpr int positions = 16;
+constexpr double offset = 0.04;
+constexpr double measurement_variance = 1e-4;
+constexpr double process_variance = 1e-3;
+
+// The 16 sensor positions: deterministic, spread over [-0.3, 0.3] per coordinate.
+template <int N>
+std::array<typename QuadraticQualityMeasurement<N>::Inputs, positions> sensor_positions() {
+  std::array<typename QuadraticQualityMeasurement<N>::Inputs, positions> inputs;
+  for (int k = 0; k < positions; ++k) {
+    Vector<N> a(N);
+    Vector<N> u(N);
+    for (int i = 0; i < N; ++i) {
+      a(i) = 0.3 * std::sin(0.7 * (k + 1) + 1.3 * i);
+      u(i) = 0.3 * std::cos(1.1 * (k + 1) - 0.4 * i);
+    }
+    inputs[static_cast<std::size_t>(k)] = {a, u};
+  }
+  return inputs;
+}
+
+template <int N>
+double measured(int k) {
+  return 0.25 + 0.01 * std::sin(0.37 * k);  // a plausible z sequence, the same for both
+}
+
+// --- mherb/kalman's side ---------------------------------------------------------------------
+template <int N>
+struct State : Kalman::Vector<double, N> {
+  KALMAN_VECTOR(State, double, N)
+};
+struct NoControl : Kalman::Vector<double, 1> {
+  KALMAN_VECTOR(NoControl, double, 1)
+};
+struct Quality : Kalman::Vector<double, 1> {
+  KALMAN_VECTOR(Quality, double, 1)
+};
+
+template <int N>
+class Walk : public Kalman::SystemModel<State<N>, NoControl> {
+ public:
+  Walk() { this->setCovariance(Kalman::Covariance<State<N>>::Identity() * process_variance); }
+  State<N> f(const State<N>& x, const NoControl&) const override { return x; }
+};
+
+template <int N>
+class Sensor : public Kalman::MeasurementModel<State<N>, Quality> {
+ public:
+  Sensor() { this->setCovariance(Kalman::Covariance<Quality>::Identity() * measurement_variance); }
+  void place(const typename QuadraticQualityMeasurement<N>::Inputs& inputs) { inputs_ = inputs; }
+  Quality h(const State<N>& x) const override {
+    const Vector<N> e = inputs_.control - inputs_.assembly - x;
+    const Vector<N> weighted = weight_ * e;  // eᵀHe with H = I as a matrix, as twincal's model
+    Quality z;
+    z(0) = std::sqrt(offset + e.dot(weighted));
+    return z;
+  }
+
+ private:
+  SquareMatrix<N> weight_ = SquareMatrix<N>::Identity();
+  typename QuadraticQualityMeasurement<N>::Inputs inputs_;
+};
+
+// --- twincal's side --------------------------------------------------------------------------
+template <int N>
+class RandomWalkModel {
+ public:
+  static constexpr int dimension_at_compile_time = N;
+  [[nodiscard]] Index dimension() const { return N; }
+  [[nodiscard]] const Vector<N>& propagate(const Vector<N>& x) const { return x; }
+  [[nodiscard]] const SquareMatrix<N>& process_noise() const { return q_; }
+
+ private:
+  SquareMatrix<N> q_ = SquareMatrix<N>::Identity() * process_variance;
+};
+
+template <int N>
+using TwincalUkf =
+    SigmaPointFilter<RandomWalkModel<N>, QuadraticQualityMeasurement<N>, MerweScaledSigmaPoints>;
+
+template <int N>
+TwincalUkf<N> make_twincal(SigmaPointRefresh refresh, bool symmetrize) {
+  SigmaPointFilterOptions options;
+  options.refresh = refresh;
+  options.symmetrize = symmetrize;
+  return TwincalUkf<N>(
+      RandomWalkModel<N>{},
+      QuadraticQualityMeasurement<N>(SquareMatrix<N>::Identity(), offset, measurement_variance),
+      MerweScaledSigmaPoints{1.0, 2.0, 0.0}, Vector<N>::Constant(0.01),
+      SquareMatrix<N>::Identity() * 1e-2, options);
+}
+
+template <int N>
+Kalman::UnscentedKalmanFilter<State<N>> make_mherb() {
+  Kalman::UnscentedKalmanFilter<State<N>> ukf(1.0, 2.0, 0.0);
+  ukf.init(State<N>(Vector<N>::Constant(0.01)));
+  ukf.setCovariance(Kalman::Covariance<State<N>>::Identity() * 1e-2);
+  return ukf;
+}
+
+// mherb/kalman draws the update's points from the propagated ones (twincal's reuse_propagated)
+// and does not symmetrize: with those options both must agree before anything is timed.
+template <int N>
+void require_same_estimates() {
+  TwincalUkf<N> ours = make_twincal<N>(SigmaPointRefresh::reuse_propagated, false);
+  Kalman::UnscentedKalmanFilter<State<N>> theirs = make_mherb<N>();
+  const Walk<N> walk;
+  Sensor<N> sensor;
+  const auto inputs = sensor_positions<N>();
+  for (int k = 0; k < 3 * positions; ++k) {
+    const auto& in = inputs[static_cast<std::size_t>(k % positions)];
+    sensor.place(in);
+    Quality z;
+    z(0) = measured<N>(k);
+    ours.predict();
+    ours.update(z(0), in);
+    theirs.predict(walk);
+    theirs.update(sensor, z);
+  }
+  const double difference = (ours.state() - Vector<N>(theirs.getState())).cwiseAbs().maxCoeff();
+  if (!(difference <= 1e-12)) {
+    throw std::runtime_error(fmt::format("n = {}: the two UKFs disagree by {}", N, difference));
+  }
+}
+
+template <int N>
+void mherb_ukf(benchmark::State& state) {
+  require_same_estimates<N>();
+  Kalman::UnscentedKalmanFilter<State<N>> ukf = make_mherb<N>();
+  const Walk<N> walk;
+  Sensor<N> sensor;
+  const auto inputs = sensor_positions<N>();
+  int k = 0;
+  for (auto _ : state) {
+    sensor.place(inputs[static_cast<std::size_t>(k % positions)]);
+    Quality z;
+    z(0) = measured<N>(k);
+    ukf.predict(walk);
+    ukf.update(sensor, z);
+    benchmark::DoNotOptimize(ukf.getState().data());
+    ++k;
+  }
+}
+
+template <int N, SigmaPointRefresh Refresh, bool Symmetrize>
+void twincal_ukf(benchmark::State& state) {
+  TwincalUkf<N> ukf = make_twincal<N>(Refresh, Symmetrize);
+  const auto inputs = sensor_positions<N>();
+  int k = 0;
+  for (auto _ : state) {
+    ukf.predict();
+    ukf.update(measured<N>(k), inputs[static_cast<std::size_t>(k % positions)]);
+    benchmark::DoNotOptimize(ukf.state().data());
+    ++k;
+  }
+}
+
+template <int... Ns>
+void register_sizes() {
+  (benchmark::RegisterBenchmark(fmt::format("mherb_kalman/ukf/{}", Ns).c_str(), &mherb_ukf<Ns>),
+   ...);
+  (benchmark::RegisterBenchmark(fmt::format("twincal/ukf_points_reused/{}", Ns).c_str(),
+                                &twincal_ukf<Ns, SigmaPointRefresh::reuse_propagated, false>),
+   ...);
+  (benchmark::RegisterBenchmark(fmt::format("twincal/ukf_defaults/{}", Ns).c_str(),
+                                &twincal_ukf<Ns, SigmaPointRefresh::redraw, true>),
+   ...);
+}
+
+const bool registered = [] {
+  register_sizes<1, 3, 6, 12>();
+  return true;
+}();
+
+}  // namespace
+}  // namespace twincal::benchmarks
