@@ -1,4 +1,5 @@
-// twincal's UKF against mherb/kalman's (github.com/mherb/kalman) on the same problem: a random
+// twincal's UKF and square-root UKF against mherb/kalman's (github.com/mherb/kalman) on the same
+// problem: a random
 // walk (Q = 1e-3·I) measured by z = sqrt(q0 + eᵀHe), e = u − a − x, whose sensor inputs (a, u)
 // cycle through 16 positions; Merwe α = 1, β = 2, κ = 0; one predict + update per iteration.
 // Built only when TWINCAL_COMPARE_MHERB_KALMAN_DIR names a checkout of mherb/kalman (its include/
@@ -8,16 +9,19 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 #include <kalman/MeasurementModel.hpp>
+#include <kalman/SquareRootUnscentedKalmanFilter.hpp>
 #include <kalman/SystemModel.hpp>
 #include <kalman/UnscentedKalmanFilter.hpp>
 
 #include "twincal/filters/merwe_scaled_sigma_points.hpp"
 #include "twincal/filters/quadratic_quality_measurement.hpp"
 #include "twincal/filters/sigma_point_filter.hpp"
+#include "twincal/filters/square_root_sigma_point_filter.hpp"
 
 namespace twincal::benchmarks {
 namespace {
@@ -60,17 +64,31 @@ struct Quality : Kalman::Vector<double, 1> {
   KALMAN_VECTOR(Quality, double, 1)
 };
 
-template <int N>
-class Walk : public Kalman::SystemModel<State<N>, NoControl> {
+template <int N, template <class> class Base = Kalman::StandardBase>
+class Walk : public Kalman::SystemModel<State<N>, NoControl, Base> {
  public:
-  Walk() { this->setCovariance(Kalman::Covariance<State<N>>::Identity() * process_variance); }
+  Walk() {
+    if constexpr (std::is_same_v<Base<State<N>>, Kalman::StandardBase<State<N>>>) {
+      this->setCovariance(Kalman::Covariance<State<N>>::Identity() * process_variance);
+    } else {
+      this->setCovarianceSquareRoot(Kalman::Covariance<State<N>>::Identity() *
+                                    std::sqrt(process_variance));
+    }
+  }
   State<N> f(const State<N>& x, const NoControl&) const override { return x; }
 };
 
-template <int N>
-class Sensor : public Kalman::MeasurementModel<State<N>, Quality> {
+template <int N, template <class> class Base = Kalman::StandardBase>
+class Sensor : public Kalman::MeasurementModel<State<N>, Quality, Base> {
  public:
-  Sensor() { this->setCovariance(Kalman::Covariance<Quality>::Identity() * measurement_variance); }
+  Sensor() {
+    if constexpr (std::is_same_v<Base<Quality>, Kalman::StandardBase<Quality>>) {
+      this->setCovariance(Kalman::Covariance<Quality>::Identity() * measurement_variance);
+    } else {
+      this->setCovarianceSquareRoot(Kalman::Covariance<Quality>::Identity() *
+                                    std::sqrt(measurement_variance));
+    }
+  }
   void place(const typename QuadraticQualityMeasurement<N>::Inputs& inputs) { inputs_ = inputs; }
   Quality h(const State<N>& x) const override {
     const Vector<N> e = inputs_.control - inputs_.assembly - x;
@@ -179,8 +197,93 @@ void twincal_ukf(benchmark::State& state) {
   }
 }
 
+template <int N>
+using TwincalSquareRootUkf =
+    SquareRootSigmaPointFilter<RandomWalkModel<N>, QuadraticQualityMeasurement<N>,
+                               MerweScaledSigmaPoints>;
+
+template <int N>
+TwincalSquareRootUkf<N> make_twincal_square_root() {
+  return TwincalSquareRootUkf<N>(
+      RandomWalkModel<N>{},
+      QuadraticQualityMeasurement<N>(SquareMatrix<N>::Identity(), offset, measurement_variance),
+      MerweScaledSigmaPoints{1.0, 2.0, 0.0}, Vector<N>::Constant(0.01),
+      SquareMatrix<N>(SquareMatrix<N>::Identity() * 1e-2),
+      SquareRootFilterOptions{SigmaPointRefresh::reuse_propagated, SquareRootUpdate::downdate});
+}
+
+template <int N>
+Kalman::SquareRootUnscentedKalmanFilter<State<N>> make_mherb_square_root() {
+  Kalman::SquareRootUnscentedKalmanFilter<State<N>> ukf(1.0, 2.0, 0.0);
+  ukf.init(State<N>(Vector<N>::Constant(0.01)));
+  ukf.setCovariance(Kalman::Covariance<State<N>>::Identity() * 1e-2);
+  return ukf;
+}
+
+template <int N>
+void require_same_square_root_estimates() {
+  TwincalSquareRootUkf<N> ours = make_twincal_square_root<N>();
+  Kalman::SquareRootUnscentedKalmanFilter<State<N>> theirs = make_mherb_square_root<N>();
+  const Walk<N, Kalman::SquareRootBase> walk;
+  Sensor<N, Kalman::SquareRootBase> sensor;
+  const auto inputs = sensor_positions<N>();
+  for (int k = 0; k < 3 * positions; ++k) {
+    const auto& in = inputs[static_cast<std::size_t>(k % positions)];
+    sensor.place(in);
+    Quality z;
+    z(0) = measured<N>(k);
+    ours.predict();
+    ours.update(z(0), in);
+    theirs.predict(walk);
+    theirs.update(sensor, z);
+  }
+  const double difference = (ours.state() - Vector<N>(theirs.getState())).cwiseAbs().maxCoeff();
+  if (!(difference <= 1e-12)) {
+    throw std::runtime_error(
+        fmt::format("n = {}: the two square-root UKFs disagree by {}", N, difference));
+  }
+}
+
+template <int N>
+void mherb_square_root_ukf(benchmark::State& state) {
+  require_same_square_root_estimates<N>();
+  Kalman::SquareRootUnscentedKalmanFilter<State<N>> ukf = make_mherb_square_root<N>();
+  const Walk<N, Kalman::SquareRootBase> walk;
+  Sensor<N, Kalman::SquareRootBase> sensor;
+  const auto inputs = sensor_positions<N>();
+  int k = 0;
+  for (auto _ : state) {
+    sensor.place(inputs[static_cast<std::size_t>(k % positions)]);
+    Quality z;
+    z(0) = measured<N>(k);
+    ukf.predict(walk);
+    ukf.update(sensor, z);
+    benchmark::DoNotOptimize(ukf.getState().data());
+    ++k;
+  }
+}
+
+template <int N>
+void twincal_square_root_ukf(benchmark::State& state) {
+  TwincalSquareRootUkf<N> ukf = make_twincal_square_root<N>();
+  const auto inputs = sensor_positions<N>();
+  int k = 0;
+  for (auto _ : state) {
+    ukf.predict();
+    ukf.update(measured<N>(k), inputs[static_cast<std::size_t>(k % positions)]);
+    benchmark::DoNotOptimize(ukf.state().data());
+    ++k;
+  }
+}
+
 template <int... Ns>
 void register_sizes() {
+  (benchmark::RegisterBenchmark(fmt::format("mherb_kalman/square_root_ukf/{}", Ns).c_str(),
+                                &mherb_square_root_ukf<Ns>),
+   ...);
+  (benchmark::RegisterBenchmark(fmt::format("twincal/square_root_ukf_downdate/{}", Ns).c_str(),
+                                &twincal_square_root_ukf<Ns>),
+   ...);
   (benchmark::RegisterBenchmark(fmt::format("mherb_kalman/ukf/{}", Ns).c_str(), &mherb_ukf<Ns>),
    ...);
   (benchmark::RegisterBenchmark(fmt::format("twincal/ukf_points_reused/{}", Ns).c_str(),
