@@ -119,153 +119,104 @@ class RandomWalkModel {
 template <int N>
 using TwincalUkf =
     SigmaPointFilter<RandomWalkModel<N>, QuadraticQualityMeasurement<N>, MerweScaledSigmaPoints>;
-
-template <int N>
-TwincalUkf<N> make_twincal(SigmaPointRefresh refresh, bool symmetrize) {
-  SigmaPointFilterOptions options;
-  options.refresh = refresh;
-  options.symmetrize = symmetrize;
-  return TwincalUkf<N>(
-      RandomWalkModel<N>{},
-      QuadraticQualityMeasurement<N>(SquareMatrix<N>::Identity(), offset, measurement_variance),
-      MerweScaledSigmaPoints{1.0, 2.0, 0.0}, Vector<N>::Constant(0.01),
-      SquareMatrix<N>::Identity() * 1e-2, options);
-}
-
-template <int N>
-Kalman::UnscentedKalmanFilter<State<N>> make_mherb() {
-  Kalman::UnscentedKalmanFilter<State<N>> ukf(1.0, 2.0, 0.0);
-  ukf.init(State<N>(Vector<N>::Constant(0.01)));
-  ukf.setCovariance(Kalman::Covariance<State<N>>::Identity() * 1e-2);
-  return ukf;
-}
-
-// mherb/kalman draws the update's points from the propagated ones (twincal's reuse_propagated)
-// and does not symmetrize: with those options both must agree before anything is timed.
-template <int N>
-void require_same_estimates() {
-  TwincalUkf<N> ours = make_twincal<N>(SigmaPointRefresh::reuse_propagated, false);
-  Kalman::UnscentedKalmanFilter<State<N>> theirs = make_mherb<N>();
-  const Walk<N> walk;
-  Sensor<N> sensor;
-  const auto inputs = sensor_positions<N>();
-  for (int k = 0; k < 3 * positions; ++k) {
-    const auto& in = inputs[static_cast<std::size_t>(k % positions)];
-    sensor.place(in);
-    Quality z;
-    z(0) = measured<N>(k);
-    ours.predict();
-    ours.update(z(0), in);
-    theirs.predict(walk);
-    theirs.update(sensor, z);
-  }
-  const double difference = (ours.state() - Vector<N>(theirs.getState())).cwiseAbs().maxCoeff();
-  if (!(difference <= 1e-12)) {
-    throw std::runtime_error(fmt::format("n = {}: the two UKFs disagree by {}", N, difference));
-  }
-}
-
-template <int N>
-void mherb_ukf(benchmark::State& state) {
-  require_same_estimates<N>();
-  Kalman::UnscentedKalmanFilter<State<N>> ukf = make_mherb<N>();
-  const Walk<N> walk;
-  Sensor<N> sensor;
-  const auto inputs = sensor_positions<N>();
-  int k = 0;
-  for (auto _ : state) {
-    sensor.place(inputs[static_cast<std::size_t>(k % positions)]);
-    Quality z;
-    z(0) = measured<N>(k);
-    ukf.predict(walk);
-    ukf.update(sensor, z);
-    benchmark::DoNotOptimize(ukf.getState().data());
-    ++k;
-  }
-}
-
-template <int N, SigmaPointRefresh Refresh, bool Symmetrize>
-void twincal_ukf(benchmark::State& state) {
-  TwincalUkf<N> ukf = make_twincal<N>(Refresh, Symmetrize);
-  const auto inputs = sensor_positions<N>();
-  int k = 0;
-  for (auto _ : state) {
-    ukf.predict();
-    ukf.update(measured<N>(k), inputs[static_cast<std::size_t>(k % positions)]);
-    benchmark::DoNotOptimize(ukf.state().data());
-    ++k;
-  }
-}
-
 template <int N>
 using TwincalSquareRootUkf =
     SquareRootSigmaPointFilter<RandomWalkModel<N>, QuadraticQualityMeasurement<N>,
                                MerweScaledSigmaPoints>;
 
 template <int N>
-TwincalSquareRootUkf<N> make_twincal_square_root() {
-  return TwincalSquareRootUkf<N>(
-      RandomWalkModel<N>{},
-      QuadraticQualityMeasurement<N>(SquareMatrix<N>::Identity(), offset, measurement_variance),
-      MerweScaledSigmaPoints{1.0, 2.0, 0.0}, Vector<N>::Constant(0.01),
-      SquareMatrix<N>(SquareMatrix<N>::Identity() * 1e-2),
-      SquareRootFilterOptions{SigmaPointRefresh::reuse_propagated, SquareRootUpdate::downdate});
+QuadraticQualityMeasurement<N> twincal_measurement() {
+  return QuadraticQualityMeasurement<N>(SquareMatrix<N>::Identity(), offset, measurement_variance);
 }
 
 template <int N>
-Kalman::SquareRootUnscentedKalmanFilter<State<N>> make_mherb_square_root() {
-  Kalman::SquareRootUnscentedKalmanFilter<State<N>> ukf(1.0, 2.0, 0.0);
+TwincalUkf<N> make_twincal(SigmaPointRefresh refresh, bool symmetrize) {
+  SigmaPointFilterOptions options;
+  options.refresh = refresh;
+  options.symmetrize = symmetrize;
+  return TwincalUkf<N>(RandomWalkModel<N>{}, twincal_measurement<N>(),
+                       MerweScaledSigmaPoints{1.0, 2.0, 0.0}, Vector<N>::Constant(0.01),
+                       SquareMatrix<N>::Identity() * 1e-2, options);
+}
+
+template <int N>
+TwincalSquareRootUkf<N> make_twincal_square_root() {
+  return TwincalSquareRootUkf<N>(
+      RandomWalkModel<N>{}, twincal_measurement<N>(), MerweScaledSigmaPoints{1.0, 2.0, 0.0},
+      Vector<N>::Constant(0.01), SquareMatrix<N>(SquareMatrix<N>::Identity() * 1e-2),
+      SquareRootFilterOptions{SigmaPointRefresh::reuse_propagated, SquareRootUpdate::downdate});
+}
+
+// mherb/kalman's filter for a covariance base: the standard UKF or the square-root UKF.
+template <int N, template <class> class Base>
+using MherbUkf = std::conditional_t<std::is_same_v<Base<State<N>>, Kalman::StandardBase<State<N>>>,
+                                    Kalman::UnscentedKalmanFilter<State<N>>,
+                                    Kalman::SquareRootUnscentedKalmanFilter<State<N>>>;
+
+template <int N, template <class> class Base>
+MherbUkf<N, Base> make_mherb() {
+  MherbUkf<N, Base> ukf(1.0, 2.0, 0.0);
   ukf.init(State<N>(Vector<N>::Constant(0.01)));
   ukf.setCovariance(Kalman::Covariance<State<N>>::Identity() * 1e-2);
   return ukf;
 }
 
-template <int N>
-void require_same_square_root_estimates() {
-  TwincalSquareRootUkf<N> ours = make_twincal_square_root<N>();
-  Kalman::SquareRootUnscentedKalmanFilter<State<N>> theirs = make_mherb_square_root<N>();
-  const Walk<N, Kalman::SquareRootBase> walk;
-  Sensor<N, Kalman::SquareRootBase> sensor;
+// One predict + update of mherb's filter at step k.
+template <int N, template <class> class Base>
+void mherb_step(MherbUkf<N, Base>& ukf, const Walk<N, Base>& walk, Sensor<N, Base>& sensor,
+                const typename QuadraticQualityMeasurement<N>::Inputs& inputs, int k) {
+  sensor.place(inputs);
+  Quality z;
+  z(0) = measured<N>(k);
+  ukf.predict(walk);
+  ukf.update(sensor, z);
+}
+
+// mherb/kalman draws the update's points from the propagated ones (twincal's reuse_propagated)
+// and does not symmetrize: twincal's filter so configured (`ours`) must agree with mherb's of
+// the same base before anything is timed.
+template <int N, template <class> class Base, typename Ours>
+void require_same_estimates(Ours ours) {
+  MherbUkf<N, Base> theirs = make_mherb<N, Base>();
+  const Walk<N, Base> walk;
+  Sensor<N, Base> sensor;
   const auto inputs = sensor_positions<N>();
   for (int k = 0; k < 3 * positions; ++k) {
     const auto& in = inputs[static_cast<std::size_t>(k % positions)];
-    sensor.place(in);
-    Quality z;
-    z(0) = measured<N>(k);
     ours.predict();
-    ours.update(z(0), in);
-    theirs.predict(walk);
-    theirs.update(sensor, z);
+    ours.update(measured<N>(k), in);
+    mherb_step<N, Base>(theirs, walk, sensor, in, k);
   }
   const double difference = (ours.state() - Vector<N>(theirs.getState())).cwiseAbs().maxCoeff();
   if (!(difference <= 1e-12)) {
-    throw std::runtime_error(
-        fmt::format("n = {}: the two square-root UKFs disagree by {}", N, difference));
+    throw std::runtime_error(fmt::format(
+        "n = {}: twincal's and mherb/kalman's filters disagree by {} after {} steps; rule: "
+        "<= 1e-12",
+        N, difference, 3 * positions));
   }
 }
 
-template <int N>
-void mherb_square_root_ukf(benchmark::State& state) {
-  require_same_square_root_estimates<N>();
-  Kalman::SquareRootUnscentedKalmanFilter<State<N>> ukf = make_mherb_square_root<N>();
-  const Walk<N, Kalman::SquareRootBase> walk;
-  Sensor<N, Kalman::SquareRootBase> sensor;
+template <int N, template <class> class Base>
+void mherb_ukf(benchmark::State& state) {
+  if constexpr (std::is_same_v<Base<State<N>>, Kalman::StandardBase<State<N>>>) {
+    require_same_estimates<N, Base>(make_twincal<N>(SigmaPointRefresh::reuse_propagated, false));
+  } else {
+    require_same_estimates<N, Base>(make_twincal_square_root<N>());
+  }
+  MherbUkf<N, Base> ukf = make_mherb<N, Base>();
+  const Walk<N, Base> walk;
+  Sensor<N, Base> sensor;
   const auto inputs = sensor_positions<N>();
   int k = 0;
   for (auto _ : state) {
-    sensor.place(inputs[static_cast<std::size_t>(k % positions)]);
-    Quality z;
-    z(0) = measured<N>(k);
-    ukf.predict(walk);
-    ukf.update(sensor, z);
+    mherb_step<N, Base>(ukf, walk, sensor, inputs[static_cast<std::size_t>(k % positions)], k);
     benchmark::DoNotOptimize(ukf.getState().data());
     ++k;
   }
 }
 
-template <int N>
-void twincal_square_root_ukf(benchmark::State& state) {
-  TwincalSquareRootUkf<N> ukf = make_twincal_square_root<N>();
+template <int N, typename Filter>
+void twincal_steps(benchmark::State& state, Filter ukf) {
   const auto inputs = sensor_positions<N>();
   int k = 0;
   for (auto _ : state) {
@@ -276,21 +227,32 @@ void twincal_square_root_ukf(benchmark::State& state) {
   }
 }
 
+template <int N, SigmaPointRefresh Refresh, bool Symmetrize>
+void twincal_ukf(benchmark::State& state) {
+  twincal_steps<N>(state, make_twincal<N>(Refresh, Symmetrize));
+}
+
+template <int N>
+void twincal_square_root_ukf(benchmark::State& state) {
+  twincal_steps<N>(state, make_twincal_square_root<N>());
+}
+
 template <int... Ns>
 void register_sizes() {
-  (benchmark::RegisterBenchmark(fmt::format("mherb_kalman/square_root_ukf/{}", Ns).c_str(),
-                                &mherb_square_root_ukf<Ns>),
-   ...);
-  (benchmark::RegisterBenchmark(fmt::format("twincal/square_root_ukf_downdate/{}", Ns).c_str(),
-                                &twincal_square_root_ukf<Ns>),
-   ...);
-  (benchmark::RegisterBenchmark(fmt::format("mherb_kalman/ukf/{}", Ns).c_str(), &mherb_ukf<Ns>),
+  (benchmark::RegisterBenchmark(fmt::format("mherb_kalman/ukf/{}", Ns).c_str(),
+                                &mherb_ukf<Ns, Kalman::StandardBase>),
    ...);
   (benchmark::RegisterBenchmark(fmt::format("twincal/ukf_points_reused/{}", Ns).c_str(),
                                 &twincal_ukf<Ns, SigmaPointRefresh::reuse_propagated, false>),
    ...);
   (benchmark::RegisterBenchmark(fmt::format("twincal/ukf_defaults/{}", Ns).c_str(),
                                 &twincal_ukf<Ns, SigmaPointRefresh::redraw, true>),
+   ...);
+  (benchmark::RegisterBenchmark(fmt::format("mherb_kalman/square_root_ukf/{}", Ns).c_str(),
+                                &mherb_ukf<Ns, Kalman::SquareRootBase>),
+   ...);
+  (benchmark::RegisterBenchmark(fmt::format("twincal/square_root_ukf_downdate/{}", Ns).c_str(),
+                                &twincal_square_root_ukf<Ns>),
    ...);
 }
 
