@@ -11,10 +11,13 @@ options=(-DCMAKE_BUILD_TYPE=Release)
 if [ "${1:-}" = "--sanitizers" ]; then
   [ -n "${2:-}" ] || { twincal_log "--sanitizers needs a list, e.g. address,undefined"; exit 2; }
   build_dir="$TWINCAL_ROOT/build-sanitizers"
-  # -O1 keeps the instrumented suite fast; Eigen's assertions stay on (no NDEBUG). -g1 (line
-  # tables only) is enough for the sanitizers' file:line reports and compiles ~30 % faster than
-  # -g on the template-heavy suites.
-  options=(-DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-g1 -O1"
+  # Clang: it compiles the instrumented, template-heavy suites ~40 % faster than GCC (the
+  # square-root filter test: 136 s against 229 s) and adds its own warnings to the release
+  # build's GCC ones. -O1 keeps the instrumented suite fast; Eigen's assertions stay on (no
+  # NDEBUG). -g1 (line tables only) is enough for the sanitizers' file:line reports and compiles
+  # ~30 % faster than -g.
+  options=(-DCMAKE_CXX_COMPILER=clang++-14
+           -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-g1 -O1"
            "-DTWINCAL_SANITIZERS=${2//,/;}" -DTWINCAL_BUILD_BENCHMARKS=OFF
            -DTWINCAL_BUILD_EXAMPLES=OFF -DTWINCAL_BUILD_APPS=OFF)
 elif [ $# -gt 0 ]; then

@@ -62,8 +62,7 @@ const std::array<double, 3> gauss_points{-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
 
 }  // namespace
 
-AcmPlateElement::AcmPlateElement(double width, double height, const PlateSection& section)
-    : width_(width), height_(height) {
+AcmPlateElement::AcmPlateElement(double width, double height, const PlateSection& section) {
   if (!(width > 0.0) || !(height > 0.0) || !std::isfinite(width) || !std::isfinite(height)) {
     throw InvalidArgumentError(
         "element size",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -69,7 +70,7 @@ ConstrainedSolver::ConstrainedSolver(const SparseMatrix& stiffness,
   // Scalar loop: GCC 12 warns (null dereference) on Eigen reductions of a possibly empty vector.
   const VectorX pivots = factorization_.vectorD();
   double largest = 0.0;
-  double smallest = INFINITY;
+  double smallest = std::numeric_limits<double>::infinity();
   for (Index i = 0; i < pivots.size(); ++i) {
     largest = std::max(largest, std::abs(pivots(i)));
     smallest = std::min(smallest, pivots(i));

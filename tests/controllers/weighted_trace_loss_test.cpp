@@ -26,7 +26,7 @@ TEST(WeightedTraceLoss, RejectsBadWeightsAndShapes) {
   EXPECT_THAT([] { WeightedTraceLoss(Eigen::Vector2d(1.0, -0.5)); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
                   "weights(1): value is -0.5; rule: must be >= 0"));
-  EXPECT_THAT([] { WeightedTraceLoss(Eigen::Vector2d::Zero()); },
+  EXPECT_THAT([] { (void)WeightedTraceLoss(Eigen::Vector2d::Zero()); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
                   "weights: all entries are 0; rule: at least one weight must be > 0"));
   EXPECT_THAT([] { WeightedTraceLoss(Eigen::Vector2d(1.0, std::nan(""))); },

@@ -1,6 +1,9 @@
 #include "twincal/core/cholesky.hpp"
 
+#include <cmath>
 #include <limits>
+
+#include <fmt/format.h>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -109,6 +112,64 @@ TEST(Cholesky, RejectsNonFiniteAndNonSquareInputWhateverThePolicy) {
                   "P: entry (1, 1) is nan; rule: every entry must be finite"));
   EXPECT_THAT([&] { (void)cholesky(Eigen::MatrixXd::Identity(2, 3), repair, "P"); },
               ::testing::ThrowsMessage<DimensionMismatchError>("P: is 2x3; rule: must be square"));
+}
+
+// cholesky_into, the filters' in-place form, at a fixed and at a run-time size.
+template <typename Square>
+class CholeskyInto : public ::testing::Test {};
+using SquareTypes = ::testing::Types<Eigen::Matrix3d, Eigen::MatrixXd>;
+TYPED_TEST_SUITE(CholeskyInto, SquareTypes);
+
+TYPED_TEST(CholeskyInto, FactorsLikeCholeskyAndLeavesTheMatrix) {
+  TypeParam m = spd_matrix();
+  TypeParam lower = TypeParam::Constant(3, 3, 7.0);  // stale content must not leak into L
+  const CholeskyReport report = cholesky_into(m, lower);
+  EXPECT_FALSE(report.repaired());
+  EXPECT_EQ(TypeParam(m), TypeParam(spd_matrix()));
+  EXPECT_TRUE(lower.isApprox(cholesky(spd_matrix()).factor.lower(), 1e-15));
+  EXPECT_TRUE(lower.template triangularView<Eigen::StrictlyUpper>().toDenseMatrix().isZero(0.0));
+}
+
+TYPED_TEST(CholeskyInto, ChecksEveryLowerEntryForFinitenessAndIgnoresTheUpperTriangle) {
+  for (const double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity()}) {
+    for (Index c = 0; c < 3; ++c) {
+      for (Index r = c; r < 3; ++r) {
+        TypeParam m = spd_matrix();
+        m(r, c) = bad;
+        TypeParam before = m;
+        TypeParam lower(3, 3);
+        EXPECT_THAT([&] { (void)cholesky_into(m, lower, {}, "P"); },
+                    ::testing::ThrowsMessage<NonFiniteError>(fmt::format(
+                        "P: entry ({}, {}) is {}; rule: every entry must be finite", r, c, bad)))
+            << "entry (" << r << ", " << c << ") = " << bad;
+        EXPECT_EQ(std::isnan(m(r, c)), std::isnan(bad));  // unchanged (NaN != NaN, so
+        m(r, c) = before(r, c) = 0.0;                     // compare the rest exactly)
+        EXPECT_EQ(TypeParam(m), before);
+      }
+    }
+  }
+  TypeParam m = spd_matrix();
+  m(0, 2) = std::numeric_limits<double>::quiet_NaN();  // above the diagonal: not read
+  TypeParam lower(3, 3);
+  (void)cholesky_into(m, lower);
+  EXPECT_TRUE(lower.isApprox(cholesky(spd_matrix()).factor.lower(), 1e-15));
+}
+
+TYPED_TEST(CholeskyInto, RepairsReplaceTheMatrixAndFailuresLeaveIt) {
+  TypeParam m = indefinite_matrix();
+  TypeParam lower(3, 3);
+  EXPECT_THAT([&] { (void)cholesky_into(m, lower, {}, "P"); },
+              ::testing::ThrowsMessage<NotPositiveDefiniteError>(
+                  HasSubstr("P: Cholesky factorization failed (repair policy: none)")));
+  EXPECT_EQ(TypeParam(m), TypeParam(indefinite_matrix()));
+
+  const CholeskyReport report = cholesky_into(m, lower, {.repair = CovarianceRepair::jitter}, "P");
+  EXPECT_EQ(report.applied, CovarianceRepair::jitter);
+  const TypeParam expected = indefinite_matrix() + report.jitter * Eigen::Matrix3d::Identity();
+  EXPECT_TRUE(m.isApprox(expected, 1e-12));
+  EXPECT_TRUE((lower * lower.transpose()).isApprox(m, 1e-12));
 }
 
 TEST(CholeskyOptions, ValidateNamesTheField) {

@@ -32,6 +32,29 @@ TEST(RequireFinite, AcceptsFiniteScalarsAndMatrices) {
   EXPECT_NO_THROW(require_finite("m", Eigen::Matrix2d::Identity()));
 }
 
+TEST(AllFinite, FindsEveryNonFiniteEntryAndAcceptsExtremeFiniteOnes) {
+  constexpr double largest = std::numeric_limits<double>::max();
+  constexpr double smallest = std::numeric_limits<double>::denorm_min();
+  Eigen::Matrix<double, 3, 7> fixed = Eigen::Matrix<double, 3, 7>::Constant(-largest);
+  fixed(1, 3) = smallest;
+  Eigen::MatrixXd dynamic = Eigen::MatrixXd::Constant(5, 13, largest);  // sums overflow to inf
+  EXPECT_TRUE(all_finite(fixed));
+  EXPECT_TRUE(all_finite(dynamic));
+  EXPECT_TRUE(all_finite(Eigen::MatrixXd(0, 3)));
+  for (const double bad : {nan, inf, -inf}) {
+    for (Index i = 0; i < fixed.size(); ++i) {
+      Eigen::Matrix<double, 3, 7> m = fixed;
+      m(i) = bad;
+      EXPECT_FALSE(all_finite(m)) << "entry " << i << " = " << bad;
+    }
+    for (Index i = 0; i < dynamic.size(); ++i) {
+      Eigen::MatrixXd m = dynamic;
+      m(i) = bad;
+      EXPECT_FALSE(all_finite(m)) << "entry " << i << " = " << bad;
+    }
+  }
+}
+
 TEST(RequireFinite, ScalarMessageNamesArgumentValueAndRule) {
   const std::string message = message_of<NonFiniteError>([] { require_finite("sigma_z", nan); });
   EXPECT_EQ(message, "sigma_z: value is nan; rule: must be finite");

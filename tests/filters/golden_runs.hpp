@@ -77,7 +77,7 @@ Agreement replay(Filter& filter, const nlohmann::json& run) {
     agreement.add("S", filter.last_update().innovation_variance, step["S"].get<double>());
     agreement.add("y", filter.last_update().innovation, step["y"].get<double>());
     if (step.contains("log_likelihood")) {
-      agreement.add("log_likelihood", filter.last_update().log_likelihood,
+      agreement.add("log_likelihood", filter.last_update().log_likelihood(),
                     step["log_likelihood"].get<double>());
     }
   }

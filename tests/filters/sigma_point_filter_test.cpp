@@ -122,7 +122,7 @@ void expect_identical(const Filter& a, const Filter& b) {
   EXPECT_EQ(a.update_count(), b.update_count());
   EXPECT_EQ(a.last_update().innovation, b.last_update().innovation);
   EXPECT_EQ(a.last_update().gain, b.last_update().gain);
-  EXPECT_EQ(a.last_update().log_likelihood, b.last_update().log_likelihood);
+  EXPECT_EQ(a.last_update().log_likelihood(), b.last_update().log_likelihood());
 }
 
 template <typename Filter>

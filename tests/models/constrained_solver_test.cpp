@@ -42,7 +42,7 @@ TEST(ConstrainedSolver, PrescribedValuesAndTies) {
 TEST(ConstrainedSolver, RejectsMechanismsAndBadConstraints) {
   EXPECT_THROW(ConstrainedSolver(chain(1.0, 1.0), {{1, 0}}), InvalidArgumentError);  // floats
   EXPECT_THROW(ConstrainedSolver(chain(1.0, 1.0), {{0, -1}, {0, -1}}), InvalidArgumentError);
-  EXPECT_THROW(ConstrainedSolver(chain(1.0, 1.0), {{0, -1}, {2, 1}}).solve(VectorX::Zero(3)),
+  EXPECT_THROW((void)ConstrainedSolver(chain(1.0, 1.0), {{0, -1}, {2, 1}}).solve(VectorX::Zero(3)),
                DimensionMismatchError);
   EXPECT_THROW(ConstrainedSolver(chain(1.0, 1.0), {{0, -1}, {1, 0}}), InvalidArgumentError);
   EXPECT_THROW(ConstrainedSolver(chain(1.0, 1.0), {{5, -1}}), InvalidArgumentError);

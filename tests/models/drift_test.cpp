@@ -1,5 +1,7 @@
 #include "twincal/models/drift.hpp"
 
+#include <limits>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -163,7 +165,9 @@ TYPED_TEST(DriftTest, RejectsBadArguments) {
   EXPECT_THAT(
       [this] { (void)StepDrift<TestFixture::N>(this->vec(0.0, 0.0), this->vec(0.0, 0.0), -1); },
       ::testing::ThrowsMessage<InvalidArgumentError>("step_time: value is -1; rule: must be >= 0"));
-  EXPECT_THROW((void)ConstantDrift<TestFixture::N>(this->vec(INFINITY, 0.0)), NonFiniteError);
+  EXPECT_THROW(
+      (void)ConstantDrift<TestFixture::N>(this->vec(std::numeric_limits<double>::infinity(), 0.0)),
+      NonFiniteError);
 }
 
 TEST(BouncingDrift, DynamicDimensionsMustAgree) {

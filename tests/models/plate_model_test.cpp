@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -239,7 +240,7 @@ TEST(PlateModel, ClampedSquarePlateMatchesSeriesCoefficient) {
 TEST(PlateModel, RefinementConverges) {
   for (const Edge edge : {Edge::simply_supported, Edge::clamped}) {
     const double expected = reference(edge);
-    double previous = INFINITY;
+    double previous = std::numeric_limits<double>::infinity();
     for (const Index n : {4, 8, 16}) {
       const double error = std::abs(fem_centre_deflection(n, edge) / expected - 1.0);
       EXPECT_LT(error, previous) << "mesh " << n;

@@ -192,7 +192,9 @@ template <typename Derived>
 /// cholesky() into caller-owned storage, for hot loops: `lower` receives L (strict upper part
 /// zero), factored in place; when a repair was needed, `matrix` is replaced by the repaired
 /// matrix L Lᵀ. Allocates nothing, at any size, when no repair is needed and `lower` already has
-/// the size of `matrix`. Only the lower triangle of `matrix` is read.
+/// the size of `matrix`. Only the lower triangle of `matrix` is read, and checked: a NaN or an
+/// infinity in it always reaches L's diagonal, so the factor is checked instead of the input and
+/// the input is searched (for the message) only on failure.
 /// @throws as cholesky(); `lower` is then unspecified and `matrix` unchanged.
 template <int N>
 CholeskyReport cholesky_into(SquareMatrix<N>& matrix, SquareMatrix<N>& lower,
@@ -200,16 +202,21 @@ CholeskyReport cholesky_into(SquareMatrix<N>& matrix, SquareMatrix<N>& lower,
                              std::string_view name = "matrix") {
   require_valid("CholeskyOptions", options);
   require_square(name, matrix);
-  require_finite(name, matrix);
   lower.resize(matrix.rows(), matrix.cols());
   lower.template triangularView<Eigen::Lower>() = matrix;
   // Eigen's in-place decomposition: LLT<Ref<…>> factors `lower`'s own storage.
   const Eigen::LLT<Eigen::Ref<SquareMatrix<N>>, Eigen::Lower> in_place(lower);
-  if (in_place.info() == Eigen::Success && (lower.diagonal().array() > 0.0).all()) {
+  // Positive and finite pivots: LLT passes NaN pivots and tiny ones that underflow to zero.
+  constexpr double infinity = std::numeric_limits<double>::infinity();
+  if (in_place.info() == Eigen::Success &&
+      (lower.diagonal().array() > 0.0 && lower.diagonal().array() < infinity).all()) {
     lower.template triangularView<Eigen::StrictlyUpper>().setZero();
     return CholeskyReport{};
   }
-  CholeskyResult<N> repaired = cholesky(matrix, options, name);  // the rare path may allocate
+  // The rare path may allocate: the matrix as read (its lower triangle, mirrored), checked for
+  // finiteness and factored with the repair policy.
+  const SquareMatrix<N> symmetric = matrix.template selfadjointView<Eigen::Lower>();
+  CholeskyResult<N> repaired = cholesky(symmetric, options, name);
   lower = repaired.factor.lower();
   if (repaired.report.repaired()) matrix = repaired.factor.covariance();
   return repaired.report;

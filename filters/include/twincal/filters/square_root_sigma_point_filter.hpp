@@ -258,8 +258,6 @@ requires(SM::dimension_at_compile_time ==
     last_update_.innovation = innovation;
     last_update_.innovation_variance = preview.innovation_variance;
     last_update_.gain = preview.gain;
-    last_update_.log_likelihood =
-        innovation_log_likelihood(innovation, preview.innovation_variance);
     ++revision_;
     ++updates_;
   }
@@ -328,7 +326,7 @@ requires(SM::dimension_at_compile_time ==
     L_ = checked.lower();
     points_ = points;
     updates_ = updates;
-    last_update_ = Record{0.0, 0.0, StateVector::Zero(n), 0.0};
+    last_update_ = Record{0.0, 0.0, StateVector::Zero(n)};
     ++revision_;
   }
 

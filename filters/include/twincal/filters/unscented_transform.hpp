@@ -6,6 +6,8 @@
 /// consumes for finiteness and allocates nothing once its outputs and buffers have their sizes.
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -19,12 +21,11 @@
 
 namespace twincal {
 
-/// Throws NonFiniteError("<name>", …) naming the first sigma point (column) with a NaN or an
-/// infinity; `rule` says what should have been finite.
+namespace detail {
+
 template <typename Derived>
-void require_finite_points(std::string_view name, const Eigen::MatrixBase<Derived>& points,
-                           std::string_view rule) {
-  if (points.allFinite()) return;
+[[noreturn, gnu::cold, gnu::noinline]] void throw_first_non_finite_point(
+    std::string_view name, const Eigen::MatrixBase<Derived>& points, std::string_view rule) {
   for (Index c = 0; c < points.cols(); ++c) {
     for (Index r = 0; r < points.rows(); ++r) {
       if (std::isfinite(points(r, c))) continue;
@@ -33,6 +34,19 @@ void require_finite_points(std::string_view name, const Eigen::MatrixBase<Derive
                                        points(r, c), rule));
     }
   }
+  throw std::logic_error("throw_first_non_finite_point: called on finite points");
+}
+
+}  // namespace detail
+
+/// Throws NonFiniteError("<name>", …) naming the first sigma point (column) with a NaN or an
+/// infinity; `rule` says what should have been finite. The check inlines; the search does not.
+template <typename Derived>
+void require_finite_points(std::string_view name, const Eigen::MatrixBase<Derived>& points,
+                           std::string_view rule) {
+  if (all_finite(points)) [[likely]]
+    return;
+  detail::throw_first_non_finite_point(name, points, rule);
 }
 
 /// out.col(i) = f(points.col(i)), passing each point through `state` (the model takes a vector).

@@ -37,8 +37,6 @@ class AcmPlateElement {
   [[nodiscard]] RowVector<12> shape(double xi, double eta) const noexcept;
 
  private:
-  double width_;
-  double height_;
   SquareMatrix<12> coefficients_;  // polynomial coefficients = coefficients_ · nodal dofs
   Stiffness stiffness_;
   Load unit_pressure_load_;
