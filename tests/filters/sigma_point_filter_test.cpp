@@ -19,8 +19,16 @@
 
 // --- allocation counting -----------------------------------------------------------------------
 // Eigen allocates with malloc, so malloc itself is interposed (glibc's is reached through
-// __libc_malloc). Sanitizers interpose malloc themselves; the allocation test is skipped there.
+// __libc_malloc). Sanitizers interpose malloc themselves; the allocation test is skipped there
+// (GCC announces ASan with __SANITIZE_ADDRESS__, Clang 14 only through __has_feature).
 #if defined(__SANITIZE_ADDRESS__)
+#define TWINCAL_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TWINCAL_ADDRESS_SANITIZER 1
+#endif
+#endif
+#if defined(TWINCAL_ADDRESS_SANITIZER)
 #define TWINCAL_COUNT_ALLOCATIONS 0
 #else
 #define TWINCAL_COUNT_ALLOCATIONS 1
