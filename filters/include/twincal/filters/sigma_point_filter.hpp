@@ -121,8 +121,8 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     x_ = initial_state;
     P_ = initial_covariance;
     points_.resize(n, m);
-    draw_points(x_, P_, "initial_covariance", points_);
     workspace_.resize(n, m);
+    draw_points(x_, P_, "initial_covariance");
     last_update_.gain = StateVector::Zero(n);
   }
 
@@ -147,8 +147,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     if (options_.symmetrize) symmetrize(w.covariance);
 
     if (options_.refresh == SigmaPointRefresh::redraw) {
-      cholesky_into(w.covariance, w.factor, options_.factorization, "prior covariance");
-      scheme_.generate(w.mean, w.factor, points_);
+      draw_points(w.mean, w.covariance, "prior covariance");
     } else {
       points_.swap(w.propagated);
     }
@@ -317,13 +316,12 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     Preview preview;
   };
 
-  // Factors `covariance` (repairing it per the options, in which case the repaired matrix
-  // replaces it) and writes the scheme's points for (mean, L) into `out`.
-  void draw_points(const StateVector& mean, CovarianceMatrix& covariance, std::string_view name,
-                   PointMatrix& out) const {
-    CovarianceMatrix lower(covariance.rows(), covariance.cols());
-    cholesky_into(covariance, lower, options_.factorization, name);
-    scheme_.generate(mean, lower, out);
+  // Factors `covariance` into the workspace's factor (repairing it per the options, in which
+  // case the repaired matrix replaces it), then writes the scheme's points for (mean, L) into
+  // points_ — only once the factorization has succeeded.
+  void draw_points(const StateVector& mean, CovarianceMatrix& covariance, std::string_view name) {
+    cholesky_into(covariance, workspace_.factor, options_.factorization, name);
+    scheme_.generate(mean, workspace_.factor, points_);
   }
 
   // The z-independent update for `values` (may be p.measurements itself) into `p`.
