@@ -3,6 +3,11 @@
 
 TWINCAL_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 TWINCAL_JOBS="${TWINCAL_JOBS:-$(nproc 2>/dev/null || echo 2)}"
+# The compiler of every build the scripts configure: Clang 14 compiles the template-heavy test
+# and benchmark TUs 2.4× faster than GCC 12 at -O3 (the square-root filter test: 59 s against
+# 143 s). `scripts/test.sh --gcc` keeps GCC, Debian's default, warning-free. A build directory
+# keeps the compiler it was configured with; set TWINCAL_CXX to choose another for a new one.
+TWINCAL_CXX="${TWINCAL_CXX:-clang++-14}"
 
 twincal_log() { printf '\033[1m[twincal]\033[0m %s\n' "$*" >&2; }
 
@@ -44,7 +49,8 @@ twincal_build() {
   fi
   if [ ! -f "$build_dir/CMakeCache.txt" ]; then
     twincal_log "configuring $build_dir"
-    cmake -S "$TWINCAL_ROOT" -B "$build_dir" -G Ninja "${launcher[@]}" "$@" >/dev/null
+    cmake -S "$TWINCAL_ROOT" -B "$build_dir" -G Ninja "-DCMAKE_CXX_COMPILER=$TWINCAL_CXX" \
+      "${launcher[@]}" "$@" >/dev/null
   else
     cmake "$build_dir" "$@" >/dev/null
   fi
