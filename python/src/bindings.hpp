@@ -1,0 +1,21 @@
+#pragma once
+/// @file
+/// The pieces of the `twincal._twincal` extension module, one function per source file, called
+/// in order by module.cpp (the error types first: the others' docstrings name them).
+
+#include <pybind11/pybind11.h>
+
+namespace twincal::python {
+
+/// twincal.Error and its subclasses, and the translator from the C++ error types (errors.cpp).
+void bind_errors(pybind11::module_& module);
+/// The sigma-point schemes, with filterpy's names and methods (schemes.cpp).
+void bind_schemes(pybind11::module_& module);
+/// SigmaPointKalmanFilter and SquareRootKalmanFilter over a Python measurement function
+/// (filters.cpp, square_root_filters.cpp).
+void bind_filters(pybind11::module_& module);
+void bind_square_root_filters(pybind11::module_& module);
+/// Sobol and Halton with SciPy's qmc vocabulary (samplers.cpp).
+void bind_samplers(pybind11::module_& module);
+
+}  // namespace twincal::python

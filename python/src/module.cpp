@@ -1,0 +1,15 @@
+// twincal._twincal: the compiled half of the `twincal` Python package (python/twincal/).
+#include <pybind11/pybind11.h>
+
+#include "bindings.hpp"
+
+PYBIND11_MODULE(_twincal, module) {
+  module.doc() =
+      "twincal's C++ core: sigma-point Kalman filters over Python measurement functions, "
+      "sigma-point schemes and quasi-random samplers. Import it as `twincal`.";
+  twincal::python::bind_errors(module);
+  twincal::python::bind_schemes(module);
+  twincal::python::bind_filters(module);
+  twincal::python::bind_square_root_filters(module);
+  twincal::python::bind_samplers(module);
+}
