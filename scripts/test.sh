@@ -3,9 +3,9 @@
 #   ./scripts/test.sh                       release build in build/ (Clang 14, see common.sh)
 #   ./scripts/test.sh --sanitizers address,undefined
 #                                           instrumented build in build-sanitizers/ (tests only)
-#   ./scripts/test.sh --gcc                 GCC 12 build in build-gcc/ of the libraries, the
-#                                           twincal program and the examples (no tests): what a
-#                                           user's default compiler builds stays warning-free
+#   ./scripts/test.sh --gcc                 GCC 12 build in build-gcc/ of the libraries and the
+#                                           twincal program (no tests): what a user's default
+#                                           compiler builds stays warning-free
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -33,7 +33,11 @@ elif [ $# -gt 0 ]; then
 fi
 
 twincal_install_dependencies
-twincal_build "$build_dir" "${options[@]}"
+if [ "$run_tests" -eq 1 ]; then
+  twincal_build "$build_dir" "${options[@]}"
+else
+  twincal_build "$build_dir" --target twincal "${options[@]}"
+fi
 [ "$run_tests" -eq 1 ] || exit 0
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"

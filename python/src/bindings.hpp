@@ -17,5 +17,7 @@ void bind_filters(pybind11::module_& module);
 void bind_square_root_filters(pybind11::module_& module);
 /// Sobol and Halton with SciPy's qmc vocabulary (samplers.cpp).
 void bind_samplers(pybind11::module_& module);
+/// `_run_experiment`, behind twincal.run_experiment (experiments.cpp).
+void bind_experiments(pybind11::module_& module);
 
 }  // namespace twincal::python

@@ -6,10 +6,14 @@
 PYBIND11_MODULE(_twincal, module) {
   module.doc() =
       "twincal's C++ core: sigma-point Kalman filters over Python measurement functions, "
-      "sigma-point schemes and quasi-random samplers. Import it as `twincal`.";
+      "sigma-point schemes, quasi-random samplers and the paper's experiments. Import it as "
+      "`twincal`.";
   twincal::python::bind_errors(module);
   twincal::python::bind_schemes(module);
   twincal::python::bind_filters(module);
   twincal::python::bind_square_root_filters(module);
   twincal::python::bind_samplers(module);
+#ifdef TWINCAL_PYTHON_EXPERIMENTS  // built with the program's libraries (TWINCAL_BUILD_APPS)
+  twincal::python::bind_experiments(module);
+#endif
 }

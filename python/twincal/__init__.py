@@ -38,6 +38,45 @@ from ._twincal import (
 )
 
 
+def run_experiment(config, out=None, threads=0):
+    """Runs one group of the paper's protocol, as ``twincal run`` does, and returns its summary.
+
+    ``config`` is a dict with docs/cli.md's keys, e.g. ``{"case": "analytic",
+    "analytic_dimension": 3, "locators": "all", "controllers": ["baseline", "active"],
+    "runs": 10, "seed": 2023}`` (missing keys take their defaults; no "controllers": the paper's
+    13 and "active"). Results go to the directory ``out`` (episodes already there are kept, as
+    on the command line) or to a temporary one that is removed afterwards. ``threads``: worker
+    threads, 0 for all cores; results do not depend on it.
+
+    Returns ``{"config": the resolved config (seeds included), "rows": [one dict per
+    controller: group, controller, runs, diverged, median_relative_residual,
+    median_estimation_error, seconds_per_assembly, q_evaluations_per_assembly]}``, and, when
+    pandas is installed, ``"frame"``: the rows as a pandas DataFrame.
+    """
+    import json
+    import tempfile
+
+    from . import _twincal
+
+    if not hasattr(_twincal, "_run_experiment"):
+        raise RuntimeError("this twincal was built without the experiments library "
+                           "(TWINCAL_BUILD_APPS=OFF)")
+    if not isinstance(config, dict):
+        raise InvalidArgumentError(f"config: value is a {type(config).__name__}; rule: must be a dict")
+    text = json.dumps(config)
+    if out is None:
+        with tempfile.TemporaryDirectory(prefix="twincal-") as directory:
+            result = json.loads(_twincal._run_experiment(text, directory, threads))
+    else:
+        result = json.loads(_twincal._run_experiment(text, str(out), threads))
+    try:
+        import pandas
+    except ImportError:
+        return result
+    result["frame"] = pandas.DataFrame(result["rows"])
+    return result
+
+
 def UnscentedKalmanFilter(dim_x, hx, points, **options):
     """filterpy's name: a SigmaPointKalmanFilter with a UKF scheme (MerweScaledSigmaPoints,
     JulierSigmaPoints or SimplexSigmaPoints). Keyword options as SigmaPointKalmanFilter's; the
@@ -70,4 +109,5 @@ __all__ = [
     "SphericalRadialSigmaPoints",
     "SquareRootKalmanFilter",
     "UnscentedKalmanFilter",
+    "run_experiment",
 ]
