@@ -21,15 +21,19 @@ message, which names the argument, its value and the rule; the filter is then un
 """
 
 from ._twincal import (
+    ActiveController,
+    DefaultController,
     DimensionMismatchError,
     Error,
     FifthDegreeCubaturePoints,
     Halton,
+    IndividualizedController,
     InvalidArgumentError,
     JulierSigmaPoints,
     MerweScaledSigmaPoints,
     NonFiniteError,
     NotPositiveDefiniteError,
+    PaperController,
     SigmaPointKalmanFilter,
     SimplexSigmaPoints,
     Sobol,
@@ -93,16 +97,20 @@ def CubatureKalmanFilter(dim_x, hx, **options):
 
 
 __all__ = [
+    "ActiveController",
     "CubatureKalmanFilter",
+    "DefaultController",
     "DimensionMismatchError",
     "Error",
     "FifthDegreeCubaturePoints",
     "Halton",
+    "IndividualizedController",
     "InvalidArgumentError",
     "JulierSigmaPoints",
     "MerweScaledSigmaPoints",
     "NonFiniteError",
     "NotPositiveDefiniteError",
+    "PaperController",
     "SigmaPointKalmanFilter",
     "SimplexSigmaPoints",
     "Sobol",
