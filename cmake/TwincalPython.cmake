@@ -1,7 +1,13 @@
 # The Python bindings (python/): built when pybind11, the Python headers and NumPy are found
-# (Debian: pybind11-dev, python3-dev, python3-numpy), otherwise skipped with a message. The
+# (Debian: pybind11-dev, python3-dev, python3-numpy) and the experiments library is built
+# (TWINCAL_BUILD_APPS: the twins and run_experiment come from it), otherwise skipped with a
+# message. The
 # interpreter is TWINCAL_PYTHON, else Debian's /usr/bin/python3 (a python3 earlier on PATH,
 # e.g. pyenv's, may lack NumPy), else whatever FindPython3 finds.
+if(NOT TARGET twincal::experiments)
+  message(STATUS "twincal: Python bindings skipped (they need TWINCAL_BUILD_APPS=ON)")
+  return()
+endif()
 set(TWINCAL_PYTHON "" CACHE FILEPATH "Python interpreter of the bindings (default /usr/bin/python3)")
 if(TWINCAL_PYTHON)
   set(Python3_EXECUTABLE "${TWINCAL_PYTHON}")

@@ -17,8 +17,11 @@ void bind_filters(pybind11::module_& module);
 void bind_square_root_filters(pybind11::module_& module);
 /// Sobol and Halton with SciPy's qmc vocabulary (samplers.cpp).
 void bind_samplers(pybind11::module_& module);
-/// IndividualizedController, DefaultController, PaperController and ActiveController over a
-/// twin written in Python (controllers.cpp, python_twin.hpp).
+/// twincal.Twin: the FEM and analytic twins (twins.cpp, native_twin.hpp).
+void bind_twins(pybind11::module_& module);
+/// IndividualizedController, DefaultController, PaperController, PerComponentController and
+/// ActiveController over a twin written in Python or a twincal.Twin (controllers.cpp,
+/// python_twin.hpp).
 void bind_controllers(pybind11::module_& module);
 /// `_run_experiment`, behind twincal.run_experiment (experiments.cpp).
 void bind_experiments(pybind11::module_& module);

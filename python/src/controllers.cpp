@@ -1,7 +1,9 @@
-// The controllers over a twin written in Python (python_twin.hpp): the baseline (Def. 2), the
-// default controller (eq. 9), the paper's w-controller (eqs. 11–14) and the active controller,
-// each instantiated once, at Dynamic size. propose() and observe() run without the GIL; the
-// twin re-acquires it for each batch.
+// The controllers over a twin written in Python or a twincal.Twin (python_twin.hpp): the
+// baseline (Def. 2), the default controller (eq. 9), the w-controller (eqs. 11–14) with every
+// candidate sampler and exploration loss (chosen at run time, as `twincal run` does), the
+// per-component w-controllers (Sec. 4) and the active controller, each instantiated once, at
+// Dynamic size. propose() and observe() run without the GIL; a Python twin re-acquires it for
+// each batch.
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,7 +19,11 @@
 #include "twincal/controllers/controller.hpp"
 #include "twincal/controllers/individualized_controller.hpp"
 #include "twincal/controllers/presets.hpp"
+#include "twincal/controllers/sensitivity_weights.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/experiments/any_exploration_loss.hpp"
+#include "twincal/experiments/any_sampler.hpp"
+#include "twincal/experiments/experiment_choices.hpp"
 
 namespace py = pybind11;
 
@@ -26,7 +32,10 @@ namespace {
 
 using Baseline = IndividualizedController<PythonTwin>;
 using Default = PaperDefaultController<PythonTwin>;
-using Paper = PaperController<PythonTwin>;
+// The paper's filter, the sampler and the exploration loss chosen at run time.
+using Lookahead =
+    LookaheadController<PaperFilter<PythonTwin>, AnySampler, ExpectedQuality, AnyExplorationLoss>;
+using PerComponent = PerComponentPaperController<PythonTwin>;
 using Active = ActiveController<PythonTwin>;
 
 /// The Python object: the controller and the twin it refers to (kept at a fixed address).
@@ -70,6 +79,49 @@ PaperSettings paper_settings(double measurement_variance, double process_varianc
   return settings;
 }
 
+LookaheadOptions lookahead_options(double w, const std::optional<Index>& candidates,
+                                   double box_half_width) {
+  LookaheadOptions options;
+  options.w = w;
+  options.candidates = candidates;
+  options.box_half_width = box_half_width;
+  return options;
+}
+
+// The exploration loss `kind`; the weighted trace's W is `weights`, or the twin's sensitivity
+// (sensitivity_weights.hpp) over its `assemblies` attribute. Called with the GIL held.
+AnyExplorationLoss exploration_loss(const std::string& kind, const std::optional<VectorX>& weights,
+                                    const PythonTwin& twin) {
+  switch (parse_exploration_kind(kind)) {
+    case ExplorationKind::weighted_trace: {
+      if (weights) {
+        require_dimension("weights", weights->size(), twin.control_dimension());
+        return AnyExplorationLoss(WeightedTraceLoss(*weights));
+      }
+      const py::object object = twin.object();
+      if (!py::hasattr(object, "assemblies")) {
+        throw InvalidArgumentError(
+            "weights",
+            "weights: missing; rule: exploration='weighted_trace' needs weights (d "
+            "values >= 0) or a twin with an `assemblies` list to infer them from");
+      }
+      const py::list listed(object.attr("assemblies"));  // held while the twin is evaluated
+      std::vector<PythonAssembly> assemblies;
+      for (const py::handle assembly : listed) assemblies.push_back(twin.borrow(assembly));
+      py::gil_scoped_release release;
+      return AnyExplorationLoss(
+          WeightedTraceLoss(sensitivity_weights(IndividualOptimum<PythonTwin>(twin), assemblies)));
+    }
+    case ExplorationKind::log_det:
+      return AnyExplorationLoss(LogDetLoss{});
+    case ExplorationKind::max_eigenvalue:
+      return AnyExplorationLoss(MaxEigenvalueLoss{});
+    case ExplorationKind::trace:
+      break;
+  }
+  return AnyExplorationLoss(TraceLoss{});
+}
+
 // propose, observe, twin, and what the controller can tell about its last step and its belief.
 template <typename C>
 py::class_<ControllerObject<C>> bind_controller(py::module_& module, const char* name,
@@ -79,7 +131,7 @@ py::class_<ControllerObject<C>> bind_controller(py::module_& module, const char*
   cls.def(
          "propose",
          [](Object& o, const py::object& assembly) {
-           const PythonAssembly borrowed{assembly.ptr()};
+           const PythonAssembly borrowed = o.twin->borrow(assembly);
            py::gil_scoped_release release;
            VectorX control = o.controller->propose(borrowed);
            return control;
@@ -90,7 +142,7 @@ py::class_<ControllerObject<C>> bind_controller(py::module_& module, const char*
       .def(
           "observe",
           [](Object& o, const py::object& assembly, const VectorX& control, double z) {
-            const PythonAssembly borrowed{assembly.ptr()};
+            const PythonAssembly borrowed = o.twin->borrow(assembly);
             py::gil_scoped_release release;
             o.controller->observe(borrowed, control, z);
           },
@@ -146,30 +198,61 @@ void bind_controllers(py::module_& module) {
            py::arg("measurement_variance") = 1e-4, py::arg("process_variance") = 1e-3,
            py::arg("initial_variance") = 1e-3);
 
-  bind_controller<Paper>(
+  bind_controller<Lookahead>(
       module, "PaperController",
-      "The paper's w-controller (eqs. (11)-(14)): scrambled Sobol candidates from N(u0 + "
-      "delta_u, P) in a box, each scored by L_w = (1 - w) E[Q] + w (1/d) sqrt(tr P+(u)); the "
-      "twin evaluates candidates x sigma points in one batch per assembly. Seeded.")
+      "The paper's w-controller (eqs. (11)-(14)): candidates from N(u0 + delta_u, P) in a box, "
+      "each scored by L_w = (1 - w) E[Q] + w L_explore(P+(u)); the twin evaluates candidates x "
+      "sigma points in one batch per assembly. The paper's: sampler='sobol' (scrambled, "
+      "QMCPy's default) and exploration='trace' ((1/d) sqrt(tr P+)); the ablations: sampler "
+      "'halton', 'random' or 'latin_hypercube', exploration 'weighted_trace' (Sec. 4; W = "
+      "`weights`, or inferred from the twin's curvature over its `assemblies`), 'log_det' or "
+      "'max_eigenvalue'. Seeded.")
+      .def(py::init([](py::object twin, double w, std::uint64_t seed,
+                       const std::optional<Index>& candidates, double box_half_width,
+                       const std::string& sampler, const std::string& exploration,
+                       const std::optional<VectorX>& weights, double measurement_variance,
+                       double process_variance, double initial_variance) {
+             const LookaheadOptions options = lookahead_options(w, candidates, box_half_width);
+             const CandidateSampler sampler_kind = parse_candidate_sampler(sampler);
+             const PaperSettings settings =
+                 paper_settings(measurement_variance, process_variance, initial_variance);
+             return make_object<Lookahead>(std::move(twin), [&](const PythonTwin& t) {
+               const RandomStream stream(seed);
+               return Lookahead(make_paper_filter(t, stream, settings),
+                                AnySampler(sampler_kind, t.control_dimension(),
+                                           stream.substream("candidates").seed()),
+                                options, ExpectedQuality{},
+                                exploration_loss(exploration, weights, t));
+             });
+           }),
+           py::arg("twin"), py::kw_only(), py::arg("w") = 0.5, py::arg("seed") = 2023,
+           py::arg("candidates") = py::none(), py::arg("box_half_width") = 0.1,
+           py::arg("sampler") = "sobol", py::arg("exploration") = "trace",
+           py::arg("weights") = py::none(), py::arg("measurement_variance") = 1e-4,
+           py::arg("process_variance") = 1e-3, py::arg("initial_variance") = 1e-3,
+           "candidates: per assembly, default the paper's 2^(2+d).");
+
+  bind_controller<PerComponent>(
+      module, "PerComponentController",
+      "The per-component simplification the paper proposes for many locators (Sec. 4): d "
+      "one-locator w-controllers (the paper's, with Sobol candidates and the trace loss), all "
+      "updated with the shared quality; candidates per component default to 2^3. Component i "
+      "is seeded from `seed` and i.")
       .def(py::init([](py::object twin, double w, std::uint64_t seed,
                        const std::optional<Index>& candidates, double box_half_width,
                        double measurement_variance, double process_variance,
                        double initial_variance) {
-             LookaheadOptions options;
-             options.w = w;
-             options.candidates = candidates;
-             options.box_half_width = box_half_width;
+             const LookaheadOptions options = lookahead_options(w, candidates, box_half_width);
              const PaperSettings settings =
                  paper_settings(measurement_variance, process_variance, initial_variance);
-             return make_object<Paper>(std::move(twin), [&](const PythonTwin& t) {
-               return make_paper_controller(t, RandomStream(seed), options, settings);
+             return make_object<PerComponent>(std::move(twin), [&](const PythonTwin& t) {
+               return make_per_component_paper_controller(t, RandomStream(seed), options, settings);
              });
            }),
            py::arg("twin"), py::kw_only(), py::arg("w") = 0.5, py::arg("seed") = 2023,
            py::arg("candidates") = py::none(), py::arg("box_half_width") = 0.1,
            py::arg("measurement_variance") = 1e-4, py::arg("process_variance") = 1e-3,
-           py::arg("initial_variance") = 1e-3,
-           "candidates: per assembly, default the paper's 2^(2+d).");
+           py::arg("initial_variance") = 1e-3);
 
   bind_controller<Active>(
       module, "ActiveController",

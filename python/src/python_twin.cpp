@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 
+#include "native_twin.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
 
@@ -19,8 +20,7 @@ VectorX read_vector(const py::object& twin, const char* name, Index expected) {
   if (!py::hasattr(twin, name)) {
     throw InvalidArgumentError(
         name, fmt::format("twin.{}: missing; rule: a twin has lower_bounds and upper_bounds (d "
-                          "numbers each), quality_batch(assembly, controls) and "
-                          "optimum(assembly)",
+                          "numbers each) and quality_batch(assembly, controls)",
                           name));
   }
   py::object value = twin.attr(name);
@@ -36,20 +36,27 @@ VectorX read_vector(const py::object& twin, const char* name, Index expected) {
   return out;
 }
 
-void require_method(const py::object& twin, const char* name) {
-  if (!py::hasattr(twin, name) || !PyCallable_Check(twin.attr(name).ptr())) {
-    throw InvalidArgumentError(
-        name, fmt::format("twin.{}: missing or not callable; rule: a twin has "
-                          "quality_batch(assembly, controls) and optimum(assembly)",
-                          name));
-  }
+bool has_method(const py::object& twin, const char* name) {
+  return py::hasattr(twin, name) && PyCallable_Check(twin.attr(name).ptr()) != 0;
 }
 
 }  // namespace
 
 PythonTwin::PythonTwin(py::object twin) {
-  require_method(twin, "quality_batch");
-  require_method(twin, "optimum");
+  if (py::isinstance<NativeTwin>(twin)) {
+    native_ = twin.cast<const NativeTwin&>().twin;
+    lower_ = native_->lower_bounds();
+    upper_ = native_->upper_bounds();
+    names_ = native_->locator_names();
+    twin_ = std::make_unique<py::object>(std::move(twin));
+    return;
+  }
+  if (!has_method(twin, "quality_batch")) {
+    throw InvalidArgumentError("quality_batch",
+                               "twin.quality_batch: missing or not callable; rule: a twin has "
+                               "quality_batch(assembly, controls) (d × k controls, k qualities)");
+  }
+  has_optimum_ = has_method(twin, "optimum");
   lower_ = read_vector(twin, "lower_bounds", -1);
   if (lower_.size() < 1) {
     throw InvalidArgumentError("lower_bounds", "twin.lower_bounds: rule: must have d >= 1 entries");
@@ -78,6 +85,13 @@ PythonTwin::~PythonTwin() {
 
 py::object PythonTwin::object() const { return *twin_; }
 
+PythonAssembly PythonTwin::borrow(py::handle assembly) const {
+  searched_.reset();
+  PythonAssembly out{assembly.ptr(), {}};
+  if (native_) out.native = py::cast<const NativeTwin&>(*twin_).assembly(assembly);
+  return out;
+}
+
 double PythonTwin::quality(const Assembly& assembly,
                            const Eigen::Ref<const VectorX>& control) const {
   double value = 0.0;
@@ -89,6 +103,10 @@ void PythonTwin::quality_batch(const Assembly& assembly, const Eigen::Ref<const 
                                Eigen::Ref<VectorX> out) const {
   require_dimension("controls", controls.rows(), control_dimension(), "rows");
   require_dimension("out", out.size(), controls.cols());
+  if (native_) {
+    native_->quality_batch(assembly.native, controls, out);
+    return;
+  }
   py::gil_scoped_acquire gil;
   py::array_t<double, py::array::f_style> batch({controls.rows(), controls.cols()});
   Eigen::Map<MatrixX>(batch.mutable_data(), controls.rows(), controls.cols()) = controls;
@@ -108,6 +126,8 @@ void PythonTwin::quality_batch(const Assembly& assembly, const Eigen::Ref<const 
 }
 
 VectorX PythonTwin::optimum(const Assembly& assembly) const {
+  if (native_) return native_->optimum(assembly.native);
+  if (!has_optimum_) return searched_optimum(assembly).control;
   py::gil_scoped_acquire gil;
   const py::object result = twin_->attr("optimum")(py::handle(assembly.object));
   const auto values =
@@ -125,8 +145,19 @@ VectorX PythonTwin::optimum(const Assembly& assembly) const {
 }
 
 double PythonTwin::optimal_quality(const Assembly& assembly) const {
+  if (native_) return native_->optimal_quality(assembly.native);
+  if (!has_optimum_) return searched_optimum(assembly).quality;
   const VectorX u0 = optimum(assembly);
   return quality(assembly, u0);
+}
+
+const IndividualControl& PythonTwin::searched_optimum(const Assembly& assembly) const {
+  if (!searched_ || searched_->assembly != assembly.object) {
+    const VectorX centre = 0.5 * (lower_ + upper_);
+    searched_ = SearchedOptimum{assembly.object,
+                                IndividualOptimum<PythonTwin>(*this).optimize(assembly, centre)};
+  }
+  return searched_->result;
 }
 
 }  // namespace twincal::python

@@ -4,27 +4,39 @@
 /// Python object provides
 ///   - `quality_batch(assembly, controls)`: controls is a d × k array (one control per column);
 ///     returns k qualities (the batch every controller step is built on);
-///   - `optimum(assembly)`: u0(x) = argmin_u Q(x, u) (eq. 3), d values;
 ///   - `lower_bounds`, `upper_bounds`: the d locator bounds;
+///   - optionally `optimum(assembly)`: u0(x) = argmin_u Q(x, u) (eq. 3), d values. Without it,
+///     u0 is searched by NLopt (controllers' NloptOptimizer: DIRECT-L over the bounds, then
+///     BOBYQA) through `quality_batch` one control at a time — thousands of calls per assembly,
+///     so a twin that knows its optimum should say so;
 ///   - optionally `locator_names`: d strings (default "u0", "u1", …).
 /// An assembly is any Python object; twincal only passes it back to the twin.
 ///
-/// Threads: the controllers run without the GIL; each call into the twin re-acquires it.
+/// A `twincal.Twin` (native_twin.hpp) takes a fast path: the controller calls the compiled twin
+/// directly, without the GIL, and gets the same numbers as through Python.
+///
+/// Threads: the controllers run without the GIL; each call into a Python twin re-acquires it.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <pybind11/pybind11.h>
 
+#include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/core/eigen.hpp"
+#include "twincal/experiments/case_twin.hpp"
+#include "twincal/models/assembly_id.hpp"
 
 namespace twincal::python {
 
 /// An assembly, borrowed from the Python call that proposes or observes it (the controllers
-/// copy assemblies without the GIL; they keep none beyond the call).
+/// copy assemblies without the GIL; they keep none beyond the call), and, for a twincal.Twin,
+/// the AssemblyId it spells (PythonTwin::borrow).
 struct PythonAssembly {
   PyObject* object = nullptr;
+  AssemblyId native;
 };
 
 class PythonTwin {
@@ -38,6 +50,10 @@ class PythonTwin {
   PythonTwin& operator=(const PythonTwin&) = delete;
   ~PythonTwin();
 
+  /// `assembly` as the controllers pass it (with the GIL held).
+  /// @throws InvalidArgumentError for a twincal.Twin that has no such assembly.
+  [[nodiscard]] PythonAssembly borrow(pybind11::handle assembly) const;
+
   [[nodiscard]] Index control_dimension() const noexcept { return lower_.size(); }
   [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept { return names_; }
   [[nodiscard]] const VectorX& lower_bounds() const noexcept { return lower_; }
@@ -48,14 +64,29 @@ class PythonTwin {
   /// itself. @throws DimensionMismatchError (controls' rows, out, the twin's answer's size).
   void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const;
+  /// twin.optimum(assembly), or NLopt's search when the twin has none (remembered until the
+  /// next borrow(), so that optimum and optimal_quality search once per controller call).
   [[nodiscard]] VectorX optimum(const Assembly& assembly) const;
   [[nodiscard]] double optimal_quality(const Assembly& assembly) const;
+  /// Whether the twin provides optimum(assembly) (else NLopt searches it).
+  [[nodiscard]] bool has_optimum() const noexcept { return has_optimum_; }
 
   /// The Python object.
   [[nodiscard]] pybind11::object object() const;
 
  private:
+  struct SearchedOptimum {
+    PyObject* assembly = nullptr;  // borrowed for one propose/observe call (borrow() forgets it)
+    IndividualControl result;
+  };
+
+  // u0 and z* of `assembly` by NLopt, searched once per call of a controller.
+  [[nodiscard]] const IndividualControl& searched_optimum(const Assembly& assembly) const;
+
   std::unique_ptr<pybind11::object> twin_;  // released with the GIL held (see the destructor)
+  std::shared_ptr<const CaseTwin> native_;  // set for a twincal.Twin: the fast path
+  bool has_optimum_ = true;
+  mutable std::optional<SearchedOptimum> searched_;
   VectorX lower_;
   VectorX upper_;
   std::vector<std::string> names_;

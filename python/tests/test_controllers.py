@@ -101,15 +101,15 @@ def test_a_twin_error_propagates_as_itself():
 
 
 def test_bad_twins_and_measurements_raise_typed_errors():
-    class NoOptimum:
+    class NoQuality:
         lower_bounds = [-1.0]
         upper_bounds = [1.0]
 
-        def quality_batch(self, assembly, controls):
-            return np.ones(controls.shape[1])
+        def optimum(self, assembly):
+            return np.zeros(1)
 
-    with pytest.raises(twincal.InvalidArgumentError, match="optimum"):
-        twincal.IndividualizedController(NoOptimum())
+    with pytest.raises(twincal.InvalidArgumentError, match="quality_batch"):
+        twincal.IndividualizedController(NoQuality())
     twin = QuadraticTwin(2)
     twin.upper_bounds = np.array([1.0, -2.0])
     with pytest.raises(twincal.InvalidArgumentError, match="lower < upper"):
@@ -125,3 +125,122 @@ def test_bad_twins_and_measurements_raise_typed_errors():
     u = controller.propose(1)
     with pytest.raises(twincal.NonFiniteError):
         controller.observe(1, u, float("inf"))
+
+
+class DelegatingTwin:
+    """A Python twin that answers through a twincal.Twin: the controllers then take the Python
+    path (callbacks, arrays crossing both ways) for the same numbers as the compiled twin."""
+
+    def __init__(self, native):
+        self.native = native
+        self.lower_bounds = native.lower_bounds
+        self.upper_bounds = native.upper_bounds
+        self.assemblies = native.assemblies
+
+    def quality_batch(self, assembly, controls):
+        return self.native.quality_batch(assembly, controls)
+
+    def optimum(self, assembly):
+        return self.native.optimum(assembly)
+
+
+def plant_episode(controller, twin, steps):
+    """Controls and estimates of `steps` assemblies against the twin's plant, drifting."""
+    rng = np.random.default_rng(4)
+    offset = np.zeros(len(twin.lower_bounds))
+    controls, estimates = [], []
+    for _ in range(steps):
+        x = twin.assemblies[int(rng.integers(len(twin.assemblies)))]
+        u = controller.propose(x)
+        z = float(twin.quality(x, u - offset)) + 1e-3 * rng.normal()
+        controller.observe(x, u, z)
+        controls.append(u)
+        estimates.append(getattr(controller, "offset_estimate", np.zeros_like(u)))
+        offset = offset + 0.004
+    return np.array(controls), np.array(estimates)
+
+
+PARITY_CONTROLLERS = {
+    "paper": lambda t: twincal.PaperController(t, w=0.5, seed=3),
+    "paper, halton, log-det": lambda t: twincal.PaperController(
+        t, w=1.0, seed=3, sampler="halton", exploration="log_det"),
+    "per-component": lambda t: twincal.PerComponentController(t, w=1.0, seed=3),
+    "active": lambda t: twincal.ActiveController(t, seed=3),
+}
+
+
+@pytest.mark.parametrize("name", PARITY_CONTROLLERS)
+@pytest.mark.parametrize("case", ["body", "analytic"])
+def test_a_python_twin_drives_a_controller_to_the_compiled_twins_controls(name, case):
+    native = twincal.Twin(case, locators="ABC", dimension=3)
+    make = PARITY_CONTROLLERS[name]
+    compiled = plant_episode(make(native), native, steps=25)
+    through_python = plant_episode(make(DelegatingTwin(native)), native, steps=25)
+    np.testing.assert_array_equal(through_python[0], compiled[0])
+    np.testing.assert_array_equal(through_python[1], compiled[1])
+
+
+SAMPLERS = ["sobol", "halton", "random", "latin_hypercube"]
+LOSSES = ["trace", "weighted_trace", "log_det", "max_eigenvalue"]
+
+
+@pytest.mark.parametrize("exploration", LOSSES)
+@pytest.mark.parametrize("sampler", SAMPLERS)
+def test_every_sampler_and_exploration_loss_runs_the_loop(sampler, exploration):
+    twin = QuadraticTwin(2)
+    weights = np.array([1.0, 3.0]) if exploration == "weighted_trace" else None
+    controller = twincal.PaperController(twin, w=0.5, sampler=sampler, exploration=exploration,
+                                         weights=weights, seed=8)
+    residual, controls = episode(controller, twin, steps=12)
+    assert np.isfinite(residual) and np.all(np.isfinite(controls))
+    report = controller.last_proposal
+    assert report["candidates_requested"] == 16 and np.isfinite(report["loss"])
+
+
+def test_unit_weights_explore_as_the_trace_does():
+    twin = QuadraticTwin(3)
+    trace = twincal.PaperController(twin, w=0.7, seed=2)
+    weighted = twincal.PaperController(twin, w=0.7, seed=2, exploration="weighted_trace",
+                                       weights=np.ones(3))
+    np.testing.assert_array_equal(episode(weighted, twin, steps=10)[1],
+                                  episode(trace, twin, steps=10)[1])
+
+
+def test_the_weighted_trace_infers_its_weights_from_the_twins_assemblies():
+    native = twincal.Twin("body", locators="ABC")
+    controller = twincal.PaperController(native, w=1.0, exploration="weighted_trace")
+    assert np.all(np.isfinite(controller.propose(native.assemblies[0])))
+    with pytest.raises(twincal.InvalidArgumentError, match="weights"):
+        twincal.PaperController(QuadraticTwin(2), exploration="weighted_trace")
+    with pytest.raises(twincal.DimensionMismatchError, match="weights"):
+        twincal.PaperController(QuadraticTwin(2), exploration="weighted_trace", weights=np.ones(3))
+    with pytest.raises(twincal.InvalidArgumentError, match="sobel"):
+        twincal.PaperController(QuadraticTwin(2), sampler="sobel")
+    with pytest.raises(twincal.InvalidArgumentError, match="trace2"):
+        twincal.PaperController(QuadraticTwin(2), exploration="trace2")
+
+
+class TwinWithoutOptimum(QuadraticRmsTwin):
+    """The reference twin, hiding its optimum: twincal must search it."""
+
+    optimum = None  # not callable: the protocol's optional method is absent
+
+    def __init__(self, d):
+        super().__init__(d, seed=9)
+        self.calls = 0
+
+    def quality_batch(self, assembly, controls):
+        self.calls += 1
+        return super().quality_batch(assembly, controls)
+
+
+def test_a_twin_without_optimum_gets_it_searched():
+    twin = TwinWithoutOptimum(2)
+    controller = twincal.IndividualizedController(twin)
+    for x in range(3):
+        twin.calls = 0
+        np.testing.assert_allclose(controller.propose(x), twin.optima[x], atol=1e-6)
+        assert 100 < twin.calls <= 3000  # one search per assembly: DIRECT-L, then BOBYQA
+    paper = twincal.PaperController(twin, w=1.0, seed=1)
+    residual, _ = episode(paper, twin, steps=5)
+    assert np.isfinite(residual)

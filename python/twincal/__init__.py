@@ -34,11 +34,13 @@ from ._twincal import (
     NonFiniteError,
     NotPositiveDefiniteError,
     PaperController,
+    PerComponentController,
     SigmaPointKalmanFilter,
     SimplexSigmaPoints,
     Sobol,
     SphericalRadialSigmaPoints,
     SquareRootKalmanFilter,
+    Twin,
 )
 
 
@@ -62,9 +64,6 @@ def run_experiment(config, out=None, threads=0):
 
     from . import _twincal
 
-    if not hasattr(_twincal, "_run_experiment"):
-        raise RuntimeError("this twincal was built without the experiments library "
-                           "(TWINCAL_BUILD_APPS=OFF)")
     if not isinstance(config, dict):
         raise InvalidArgumentError(f"config: value is a {type(config).__name__}; rule: must be a dict")
     text = json.dumps(config)
@@ -111,11 +110,13 @@ __all__ = [
     "NonFiniteError",
     "NotPositiveDefiniteError",
     "PaperController",
+    "PerComponentController",
     "SigmaPointKalmanFilter",
     "SimplexSigmaPoints",
     "Sobol",
     "SphericalRadialSigmaPoints",
     "SquareRootKalmanFilter",
+    "Twin",
     "UnscentedKalmanFilter",
     "run_experiment",
 ]
