@@ -13,6 +13,11 @@ misbehave on purpose with A.mode:
   "pid"          reply with the process id as every quality (tests restarts)
   "chatty"       reply, then write a second, unrequested line
   "wrong_id"     reply with the id of another request
+  "crash_once", "hang_once"
+                 crash or hang if the file A.marker does not exist yet (creating it, so that
+                 exactly one process of a pool misbehaves, once), else reply normally
+A.sleep, when given, is a time in seconds the twin sleeps per control before replying (a slow
+twin, for ExternalTwinPool's benchmark).
 """
 import json
 import math
@@ -30,6 +35,13 @@ def main():
         assembly = request["assembly"]
         controls = request["controls"]
         mode = assembly.get("mode", "normal")
+        if mode in ("crash_once", "hang_once"):
+            try:
+                os.close(os.open(assembly["marker"], os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+                mode = mode[:-len("_once")]
+            except FileExistsError:
+                mode = "normal"
+        time.sleep(assembly.get("sleep", 0.0) * len(controls))
         if mode == "crash":
             os._exit(3)
         reply_id = request["id"] + (1 if mode == "wrong_id" else 0)

@@ -130,9 +130,12 @@ class ExternalTwinError : public Error {
                                   to_string(failure), detail, assembly, controls.cols())),
         failure_(failure),
         assembly_(std::move(assembly)),
-        controls_(std::move(controls)) {}
+        controls_(std::move(controls)),
+        detail_(detail) {}
 
   [[nodiscard]] ExternalTwinFailure failure() const noexcept { return failure_; }
+  /// What happened, without the message's framing (for errors that wrap this one).
+  [[nodiscard]] const std::string& detail() const noexcept { return detail_; }
   /// The request's assembly, as JSON text.
   [[nodiscard]] const std::string& assembly() const noexcept { return assembly_; }
   /// The request's d × k controls.
@@ -142,6 +145,7 @@ class ExternalTwinError : public Error {
   ExternalTwinFailure failure_;
   std::string assembly_;
   MatrixX controls_;
+  std::string detail_;
 };
 
 class ExternalTwin {
@@ -192,6 +196,13 @@ class ExternalTwin {
   [[nodiscard]] std::optional<pid_t> process_id() const {
     const std::lock_guard lock(mutex_);
     return running() ? std::optional<pid_t>(pid_) : std::nullopt;
+  }
+
+  /// Kills the child, if one is running; the next request starts a new one (a pool restarts a
+  /// worker that answered with the wrong count this way, ExternalTwinPool).
+  void restart() const {
+    const std::lock_guard lock(mutex_);
+    stop(/*graceful=*/false);
   }
 
   /// Q(x, u): one request with one control.
