@@ -11,7 +11,12 @@ Scaling figure (groups of `twincal scaling`, tagged study = scaling): per case, 
 relative residual, the diverged fraction and the Q-evaluations per assembly against the number d
 of controlled locators, one line per controller.
 
+History figure (a `twincal serve` session, exported by `twincal history`): per locator the
+estimate du^_t with its +-2 sigma band over the requests, and the measured quality z_t against
+the twin's best z*(x_t) below.
+
     twincal_plot.py --results DIR --out DIR      (normally run by `twincal plot`)
+    twincal_plot.py --history FILE.csv --out DIR
 """
 
 import argparse
@@ -226,11 +231,58 @@ def plot_scaling(groups, episodes, out):
     return made
 
 
+def plot_history(path, out):
+    """δû ± 2σ per locator and z_t against z*, from `twincal history`'s CSV; returns the stem."""
+    with open(path, encoding="utf-8", newline="") as f:
+        rows = [row for row in csv.DictReader(f) if row["quality"] != ""]
+    if not rows:
+        sys.exit(f"twincal_plot: {path} has no observed request")
+    locators = [key[len("estimate_"):] for key in rows[0] if key.startswith("estimate_")]
+    t = [int(row["request_id"]) for row in rows]
+    fig, axes = plt.subplots(len(locators) + 1, 1, sharex=True,
+                             figsize=(8, 1.6 * (len(locators) + 1) + 1), squeeze=False)
+    for axis, name in zip(axes[:-1, 0], locators):
+        estimate = [float(row[f"estimate_{name}"]) for row in rows]
+        sd = [number(row[f"sd_{name}"] or None) for row in rows]
+        axis.plot(t, estimate, color="C0", linewidth=1)
+        if not all(math.isnan(v) for v in sd):
+            axis.fill_between(t, [e - 2 * v for e, v in zip(estimate, sd)],
+                              [e + 2 * v for e, v in zip(estimate, sd)], color="C0", alpha=0.2,
+                              linewidth=0)
+        axis.set_ylabel(f"δû {name}")
+        axis.grid(alpha=0.3)
+    quality = axes[-1, 0]
+    quality.plot(t, [float(row["quality"]) for row in rows], color="C3", linewidth=1,
+                 label="measured z")
+    quality.plot(t, [number(row["optimal_quality"] or None) for row in rows], color="0.4",
+                 linewidth=1, linestyle="--", label="twin's best z*")
+    quality.set_ylabel("quality (mm)")
+    quality.set_xlabel("request")
+    quality.legend(loc="upper right", fontsize="small")
+    quality.grid(alpha=0.3)
+    axes[0, 0].set_title(f"{os.path.basename(path)}: estimate ± 2σ per locator, quality")
+    fig.tight_layout()
+    stem = os.path.splitext(os.path.basename(path))[0]
+    for extension in ("png", "svg"):
+        fig.savefig(os.path.join(out, f"{stem}.{extension}"), dpi=120)
+    plt.close(fig)
+    return stem
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--results", required=True, help="a twincal results directory")
-    parser.add_argument("--out", help="where the figures go (default RESULTS/figures)")
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("--results", help="a twincal results directory")
+    source.add_argument("--history", help="a serve session's history (`twincal history`)")
+    parser.add_argument("--out", help="where the figures go (default RESULTS/figures, or the "
+                        "history's directory)")
     args = parser.parse_args()
+    if args.history:
+        out = args.out or os.path.dirname(os.path.abspath(args.history))
+        os.makedirs(out, exist_ok=True)
+        stem = plot_history(args.history, out)
+        print(f"{stem}.png and {stem}.svg in {out}")
+        return
     out = args.out or os.path.join(args.results, "figures")
     os.makedirs(out, exist_ok=True)
     groups, episodes = load(args.results)

@@ -2,10 +2,13 @@
 
 #include <unistd.h>
 
+#include <csignal>
+
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <set>
 #include <string>
 #include <string_view>
@@ -26,6 +29,9 @@
 #include "twincal/experiments/summary_table.hpp"
 #include "twincal/experiments/sweep.hpp"
 #include "twincal/experiments/twin_cases.hpp"
+#include "twincal/serve/history_export.hpp"
+#include "twincal/serve/line_server.hpp"
+#include "twincal/serve/serve_session.hpp"
 
 namespace twincal::cli {
 namespace {
@@ -406,16 +412,20 @@ fs::path find_plot_script(const char* argv0) {
 
 int plot_command(std::span<const std::string> args, const char* argv0) {
   constexpr const char* help = R"(usage: twincal plot --results DIR [--out DIR]
+       twincal plot --history FILE.csv [--out DIR]
 
 Makes the figures of a results directory with matplotlib (apps/plots/twincal_plot.py), as PNG
 and SVG: per case and locator set, box plots over the runs of the mean relative residual (upper
 panel) and of the mean estimation error (lower panel) per controller, divergences as red
 circles whose intensity grows with their count (the paper's Figs. 4-11); and the Table 1 analog,
 mean time and Q-evaluations per assembly per controller for 1 and 3 locators, as Markdown and
-CSV.
+CSV. With --history, the figure of a `twincal serve` session (exported by `twincal history`):
+the estimate and its +-2 sigma band per locator, and the measured quality against the twin's
+best, over the requests.
 
   --results DIR          results directory (of run, paper, scaling or sweep)
-  --out DIR              where the figures go (default DIR/figures)
+  --history FILE.csv     a serve session's history (twincal history --db DB --out FILE.csv)
+  --out DIR              where the figures go (default DIR/figures, or the CSV's directory)
 
 The interpreter is $TWINCAL_PYTHON, else /usr/bin/python3, else python3 (the first that has
 matplotlib); the script is $TWINCAL_PLOT_SCRIPT, else the installed or the source tree's copy.
@@ -423,21 +433,160 @@ matplotlib); the script is $TWINCAL_PLOT_SCRIPT, else the installed or the sourc
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help)) return 0;
   const std::optional<std::string> results = arguments.text("results");
+  const std::optional<std::string> history = arguments.text("history");
   const std::optional<std::string> out = arguments.text("out");
   arguments.require_all_read();
-  require_results_directory(results);
-  {
+  std::string source;
+  if (history) {
+    if (results) {
+      throw InvalidArgumentError("--history",
+                                 "--history: given with --results; rule: plot one or the other");
+    }
+    if (!fs::is_regular_file(*history)) {
+      throw InvalidArgumentError("--history", fmt::format("--history: {} is not a file", *history));
+    }
+    source = fmt::format("--history {}", shell_quote(*history));
+  } else {
+    require_results_directory(results);
     ResultStore store(*results);
     store.write_summary();
+    const fs::path figures = out ? fs::path(*out) : fs::path(*results) / "figures";
+    source =
+        fmt::format("--results {} --out {}", shell_quote(*results), shell_quote(figures.string()));
   }
-  const fs::path figures = out ? fs::path(*out) : fs::path(*results) / "figures";
-  const std::string command = fmt::format("{} {} --results {} --out {}", shell_quote(find_python()),
-                                          shell_quote(find_plot_script(argv0).string()),
-                                          shell_quote(*results), shell_quote(figures.string()));
+  if (history && out) source += fmt::format(" --out {}", shell_quote(*out));
+  const std::string command = fmt::format("{} {} {}", shell_quote(find_python()),
+                                          shell_quote(find_plot_script(argv0).string()), source);
   const int status = std::system(command.c_str());
   if (status != 0) {
     throw Error("twincal_plot.py",
                 fmt::format("twincal_plot.py: failed (status {}): {}", status, command));
+  }
+  return 0;
+}
+
+int history_command(std::span<const std::string> args) {
+  constexpr const char* help = R"(usage: twincal history --db FILE [--out FILE.csv]
+
+Exports the history of a `twincal serve` session as CSV, one row per request: request_id,
+the assembly (upper, lower), proposed_at, observed_at, the measured quality, the twin's best
+quality z*, and per locator the control, the estimate after the observation and its standard
+deviation. `twincal plot --history FILE.csv` draws it. The database is only read (a running
+server may keep writing to it).
+
+  --db FILE              the session's database
+  --out FILE.csv         where the CSV goes (default: standard output)
+)";
+  Arguments arguments(args, {"help"});
+  if (wants_help(arguments, help)) return 0;
+  const auto database = arguments.text("db");
+  const auto out = arguments.text("out");
+  arguments.require_all_read();
+  if (!database) {
+    throw InvalidArgumentError("--db", "--db: is missing; rule: history needs a database");
+  }
+  const HistoryStore store = HistoryStore::open(*database, Durability::normal);
+  if (!out) {
+    write_history_csv(store, std::cout);
+    return 0;
+  }
+  std::ofstream file(*out);
+  if (!file) throw Error(*out, fmt::format("{}: cannot be written", *out));
+  write_history_csv(store, file);
+  return 0;
+}
+
+int serve_command(std::span<const std::string> args) {
+  static const std::string help = fmt::format(
+      R"(usage: twincal serve --db FILE [options]
+       twincal serve --db FILE --resume [--listen [HOST:]PORT] [--durability full|normal]
+
+Runs the online controller for a cell (the paper's Fig. 1): per assembly the cell sends
+{{"op": "propose", "assembly": ...}} and gets the locator adjustment, then sends
+{{"op": "observe", "request_id": ..., "quality": ...}} with the measured quality. One JSON
+request per line on stdin, one reply per line on stdout (or over TCP with --listen). Every
+proposal and observation is in the database before its reply is sent; after a crash,
+--resume continues bit for bit. Protocol and schema: docs/serve.md.
+
+  --db FILE              the session's SQLite history (created; with --resume, read)
+  --resume               continue the session of --db (its settings come from the database)
+  --listen [HOST:]PORT   serve TCP connections, one at a time, instead of stdin/stdout
+                         (HOST defaults to 127.0.0.1; PORT 0 picks a free port, printed
+                         on stderr)
+  --durability MODE      full (default: each record survives a power cut) | normal
+                         (survives a killed process; no fsync per record)
+  --case NAME            body | door | analytic (default body)
+  --locators SET         A | B | C | ABC | all | names or indices joined by commas (default A)
+  --controller LABEL     the controller (default active): any label of --controllers
+  --run R                build the controller with the seeds of run R of `twincal run` (default 0)
+{})",
+      config_options_help);
+  Arguments arguments(args, {"help", "resume"});
+  if (wants_help(arguments, help.c_str())) return 0;
+  const auto database = arguments.text("db");
+  if (!database)
+    throw InvalidArgumentError("--db", "--db: is missing; rule: serve needs a database");
+  Durability durability = Durability::full;
+  if (const auto v = arguments.text("durability")) {
+    if (*v == "normal") {
+      durability = Durability::normal;
+    } else if (*v != "full") {
+      throw InvalidArgumentError("--durability",
+                                 fmt::format("--durability: is \"{}\"; rule: full | normal", *v));
+    }
+  }
+  std::optional<ListenOptions> listen;
+  if (const auto v = arguments.text("listen")) {
+    ListenOptions options;
+    const std::size_t colon = v->rfind(':');
+    if (colon != std::string::npos) options.host = v->substr(0, colon);
+    const std::string port = colon == std::string::npos ? *v : v->substr(colon + 1);
+    const auto [end, error] = std::from_chars(port.data(), port.data() + port.size(), options.port);
+    if (error != std::errc{} || end != port.data() + port.size()) {
+      throw InvalidArgumentError(
+          "--listen", fmt::format("--listen: is \"{}\"; rule: [HOST:]PORT, PORT an integer", *v));
+    }
+    require_valid("--listen", options);
+    listen = options;
+  }
+  std::optional<ServeSession> session;
+  if (arguments.flag("resume")) {
+    arguments.require_all_read();  // the settings are the database's
+    session.emplace(ServeSession::resume(*database, durability));
+    const nlohmann::json state = session->state();
+    fmt::print(stderr, "twincal serve: resumed {}: {} observations{}\n", *database,
+               session->observed(),
+               state["pending"].is_null()
+                   ? std::string()
+                   : fmt::format(", request {} awaits its observation",
+                                 state["pending"]["request_id"].get<std::int64_t>()));
+  } else {
+    ServeOptions options;
+    options.config = read_config(arguments, {ControllerSpec::active()});
+    if (const auto v = arguments.text("case")) {
+      options.config.twin_case = parse_twin_case(*v, "--case");
+    }
+    if (const auto v = arguments.text("locators")) options.config.locators = *v;
+    if (options.config.controllers.size() != 1) {
+      throw InvalidArgumentError(
+          "--controller", fmt::format("--controller: names {} controllers; rule: serve runs one",
+                                      options.config.controllers.size()));
+    }
+    options.controller = options.config.controllers.front();
+    if (const auto v = arguments.integer("run")) options.run = *v;
+    options.durability = durability;
+    arguments.require_all_read();
+    session.emplace(ServeSession::start(options, *database));
+  }
+  // A client that disconnects mid-reply must end its connection, not the server.
+  std::signal(SIGPIPE, SIG_IGN);
+  if (listen) {
+    serve_tcp(*session, *listen, [&](int port) {
+      fmt::print(stderr, "twincal serve: listening on {}:{}\n", listen->host, port);
+      std::fflush(stderr);
+    });
+  } else {
+    serve_stream(*session, STDIN_FILENO, STDOUT_FILENO);
   }
   return 0;
 }

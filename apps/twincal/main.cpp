@@ -22,8 +22,12 @@ commands:
   paper     run the paper's matrix: cases x locator sets A, B, C, ABC x 14 controllers x runs
   scaling   run baseline, default, w=1, per-component and active over d = 1 ... 32 locators
   sweep     run an ablation: the cartesian product of axes over a base config (JSON)
-  plot      make the figures (PNG, SVG) and the Table 1 analog from a results directory
+  plot      make the figures (PNG, SVG) and the Table 1 analog from a results directory, or
+            the figure of a serve session's history
   summary   print the summary table of a results directory
+  serve     the online controller for a cell: JSON lines on stdin/stdout or TCP, its
+            history in SQLite, resumable after a crash (docs/serve.md)
+  history   export a serve session's history as CSV (`twincal plot --history` draws it)
 
 Results directories are resumable: rerunning a command skips the finished episodes.
 See docs/cli.md.
@@ -46,6 +50,8 @@ int main(int argc, char** argv) {
     if (command == "sweep") return twincal::cli::sweep_command(rest);
     if (command == "plot") return twincal::cli::plot_command(rest, argv[0]);
     if (command == "summary") return twincal::cli::summary_command(rest);
+    if (command == "serve") return twincal::cli::serve_command(rest);
+    if (command == "history") return twincal::cli::history_command(rest);
     fmt::print(stderr, "twincal: unknown command \"{}\"\n\n{}", command, usage);
     return 2;
   } catch (const std::bad_alloc&) {

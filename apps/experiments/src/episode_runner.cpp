@@ -1,6 +1,8 @@
 #include "twincal/experiments/episode_runner.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <exception>
 #include <limits>
 #include <utility>
 
@@ -11,59 +13,38 @@
 #include "twincal/controllers/nominal_controller.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
+#include "twincal/core/stopwatch.hpp"
 #include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
 #include "twincal/filters/julier_sigma_points.hpp"
 #include "twincal/filters/merwe_scaled_sigma_points.hpp"
 #include "twincal/filters/simplex_sigma_points.hpp"
 #include "twincal/filters/spherical_radial_sigma_points.hpp"
+#include "twincal/models/bouncing_drift.hpp"
 
 namespace twincal {
 namespace detail {
 
 // Instantiated in episodes_merwe.cpp, episodes_cubature.cpp and episodes_other_schemes.cpp.
-extern template void run_filtered<1, MerweScaledSigmaPoints>(const EpisodeSetup&,
-                                                             const ControllerSpec&,
-                                                             const MerweScaledSigmaPoints&,
-                                                             EpisodeResult&);
-extern template void run_filtered<3, MerweScaledSigmaPoints>(const EpisodeSetup&,
-                                                             const ControllerSpec&,
-                                                             const MerweScaledSigmaPoints&,
-                                                             EpisodeResult&);
-extern template void run_filtered<Dynamic, MerweScaledSigmaPoints>(const EpisodeSetup&,
-                                                                   const ControllerSpec&,
-                                                                   const MerweScaledSigmaPoints&,
-                                                                   EpisodeResult&);
-extern template void run_filtered<1, SphericalRadialSigmaPoints>(const EpisodeSetup&,
-                                                                 const ControllerSpec&,
-                                                                 const SphericalRadialSigmaPoints&,
-                                                                 EpisodeResult&);
-extern template void run_filtered<3, SphericalRadialSigmaPoints>(const EpisodeSetup&,
-                                                                 const ControllerSpec&,
-                                                                 const SphericalRadialSigmaPoints&,
-                                                                 EpisodeResult&);
-extern template void run_filtered<Dynamic, SphericalRadialSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&, EpisodeResult&);
-extern template void run_filtered<Dynamic, JulierSigmaPoints>(const EpisodeSetup&,
-                                                              const ControllerSpec&,
-                                                              const JulierSigmaPoints&,
-                                                              EpisodeResult&);
-extern template void run_filtered<Dynamic, FifthDegreeCubatureSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const FifthDegreeCubatureSigmaPoints&,
-    EpisodeResult&);
-extern template void run_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetup&,
-                                                               const ControllerSpec&,
-                                                               const SimplexSigmaPoints&,
-                                                               EpisodeResult&);
-
-extern template void run_active<1>(const EpisodeSetup&, EpisodeResult&);
-extern template void run_active<3>(const EpisodeSetup&, EpisodeResult&);
-extern template void run_active<Dynamic>(const EpisodeSetup&, EpisodeResult&);
-extern template void run_per_component<1>(const EpisodeSetup&, const ControllerSpec&,
-                                          EpisodeResult&);
-extern template void run_per_component<3>(const EpisodeSetup&, const ControllerSpec&,
-                                          EpisodeResult&);
-extern template void run_per_component<Dynamic>(const EpisodeSetup&, const ControllerSpec&,
-                                                EpisodeResult&);
+extern template AnyController make_filtered<1, MerweScaledSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
+extern template AnyController make_filtered<3, MerweScaledSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
+extern template AnyController make_filtered<Dynamic, MerweScaledSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
+extern template AnyController make_filtered<1, SphericalRadialSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
+extern template AnyController make_filtered<3, SphericalRadialSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
+extern template AnyController make_filtered<Dynamic, SphericalRadialSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
+extern template AnyController make_filtered<Dynamic, JulierSigmaPoints>(const EpisodeSetup&,
+                                                                        const ControllerSpec&,
+                                                                        const JulierSigmaPoints&);
+extern template AnyController make_filtered<Dynamic, FifthDegreeCubatureSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const FifthDegreeCubatureSigmaPoints&);
+extern template AnyController make_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetup&,
+                                                                         const ControllerSpec&,
+                                                                         const SimplexSigmaPoints&);
 
 namespace {
 
@@ -91,86 +72,142 @@ void size_result(EpisodeResult& result, Index d, Index steps) {
   result.seconds = VectorX::Constant(steps, nan);
 }
 
-// Episodes whose controller needs no filter; N only selects the drift's vector type, so that
-// every controller of a run computes δu*_t with the same arithmetic.
-template <int N>
-void run_unfiltered(const EpisodeSetup& setup, const ControllerSpec& spec, EpisodeResult& result) {
+// The controllers that need no filter.
+AnyController make_unfiltered(const CaseTwin& twin, const ControllerSpec& spec) {
+  const Index d = twin.control_dimension();
   if (spec.kind == ControllerSpec::Kind::nominal) {
     // u⁰ for the reference assembly x⁰: the twin's first assembly.
-    NominalController<CaseTwin> controller(*setup.twin, setup.twin->assemblies().front());
-    simulate<N>(controller, setup, result);
-  } else {
-    IndividualizedController<CaseTwin> controller(*setup.twin);
-    simulate<N>(controller, setup, result);
+    return AnyController(NominalController<CaseTwin>(twin, twin.assemblies().front()), d);
   }
+  return AnyController(IndividualizedController<CaseTwin>(twin), d);
 }
 
+// The controller of `spec`, its filter (if any) of dimension N.
 template <int N>
-void run_with_dimension(const EpisodeSetup& setup, const ControllerSpec& spec,
-                        EpisodeResult& result) {
-  if (!spec.estimates()) {
-    run_unfiltered<N>(setup, spec, result);
-    return;
-  }
-  if (spec.kind == ControllerSpec::Kind::active) {
-    run_active<N>(setup, result);
-    return;
-  }
-  if (spec.kind == ControllerSpec::Kind::per_component) {
-    run_per_component<N>(setup, spec, result);
-    return;
-  }
+AnyController make_with_dimension(const EpisodeSetup& setup, const ControllerSpec& spec) {
+  if (!spec.estimates()) return make_unfiltered(*setup.twin, spec);
+  if (spec.kind == ControllerSpec::Kind::active) return make_active(setup);
+  if (spec.kind == ControllerSpec::Kind::per_component) return make_per_component(setup, spec);
   const ExperimentConfig& config = *setup.config;
   switch (config.filter) {
     case FilterScheme::merwe:
-      run_filtered<N>(setup, spec, MerweScaledSigmaPoints(config.alpha, config.beta, config.kappa),
-                      result);
-      return;
+      return make_filtered<N>(setup, spec,
+                              MerweScaledSigmaPoints(config.alpha, config.beta, config.kappa));
     case FilterScheme::cubature:
-      run_filtered<N>(setup, spec, SphericalRadialSigmaPoints{}, result);
-      return;
-    default:
+      return make_filtered<N>(setup, spec, SphericalRadialSigmaPoints{});
+    case FilterScheme::julier:
+    case FilterScheme::fifth_degree:
+    case FilterScheme::simplex:
       break;
   }
   // The ablation-only schemes exist for dynamic d; their fixed-size twins would only cost build
   // time.
-  if constexpr (N == Dynamic) {
-    switch (config.filter) {
-      case FilterScheme::julier:
-        run_filtered<Dynamic>(setup, spec, JulierSigmaPoints(config.kappa), result);
-        return;
-      case FilterScheme::fifth_degree:
-        run_filtered<Dynamic>(setup, spec, FifthDegreeCubatureSigmaPoints{}, result);
-        return;
-      case FilterScheme::simplex:
-        run_filtered<Dynamic>(setup, spec, SimplexSigmaPoints{}, result);
-        return;
-      default:
-        break;
-    }
-  } else {
-    // Same dispatch, at dynamic size.
-    if (config.filter == FilterScheme::julier || config.filter == FilterScheme::fifth_degree ||
-        config.filter == FilterScheme::simplex) {
-      run_with_dimension<Dynamic>(setup, spec, result);
-    }
+  switch (config.filter) {
+    case FilterScheme::julier:
+      return make_filtered<Dynamic>(setup, spec, JulierSigmaPoints(config.kappa));
+    case FilterScheme::fifth_degree:
+      return make_filtered<Dynamic>(setup, spec, FifthDegreeCubatureSigmaPoints{});
+    case FilterScheme::simplex:
+      return make_filtered<Dynamic>(setup, spec, SimplexSigmaPoints{});
+    default:
+      break;
   }
+  throw InvalidArgumentError(
+      "filter", fmt::format("filter: {} is not a known scheme", static_cast<int>(config.filter)));
 }
 
-}  // namespace
-}  // namespace detail
+AnyController make_controller(const EpisodeSetup& setup, const ControllerSpec& spec) {
+  const Index d = setup.twin->control_dimension();
+  if (d == 1) return make_with_dimension<1>(setup, spec);
+  if (d == 3) return make_with_dimension<3>(setup, spec);
+  return make_with_dimension<Dynamic>(setup, spec);
+}
 
-EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
-                          const ControllerSpec& controller, Index run) {
+// The episode loop (episode_runner.hpp) over `order`; `result` is sized for it and filled. N
+// selects the drift's vector type, so that every controller of a run computes δu*_t with the
+// same arithmetic.
+template <int N>
+void simulate(AnyController& controller, const EpisodeSetup& setup,
+              const std::vector<AssemblyId>& order, EpisodeResult& result) {
+  const CaseTwin& twin = *setup.twin;
+  const ExperimentConfig& config = *setup.config;
+  const Index d = twin.control_dimension();
+  const Index planned = std::ssize(order);
+  RandomStream drift_stream = setup.run.substream("drift");
+  BouncingDrift<N> drift =
+      BouncingDrift<N>::random(d, drift_stream, config.drift_step, config.drift_bound);
+  RandomStream noise = setup.run.substream("measurement_noise");
+  const double noise_sd = std::sqrt(config.plant_noise_variance);
+  Vector<N> u(d);
+  Vector<N> shifted(d);
+  Vector<N> error(d);
+
+  double residuals = 0.0;
+  double errors = 0.0;
+  double seconds = 0.0;
+  double evaluations = 0.0;
+  Index t = 0;
+  for (; t < planned; ++t) {
+    const AssemblyId& x = order[static_cast<std::size_t>(t)];
+    drift.advance();
+    // Drawn whatever the noise level, so every controller's step t meets the same draw.
+    const double v = noise.normal();
+    try {
+      const std::uint64_t evaluations_before = CaseTwin::evaluations_on_this_thread();
+      Stopwatch watch;
+      controller.propose(x, u);
+      double elapsed = watch.seconds();
+      shifted = u - drift.offset();
+      const double z = twin.plant_quality(x, shifted) + noise_sd * v;
+      watch.restart();
+      controller.observe(x, u, z);
+      elapsed += watch.seconds();
+
+      result.z(t) = z;
+      result.z_star(t) = twin.optimal_quality(x);
+      result.control.col(t) = u;
+      result.offset.col(t) = drift.offset();
+      controller.offset_estimate(result.estimate.col(t));
+      result.trace_p(t) = controller.offset_covariance_trace();
+      result.q_evaluations(t) =
+          static_cast<double>(CaseTwin::evaluations_on_this_thread() - evaluations_before);
+      result.seconds(t) = elapsed;
+    } catch (const std::exception& failure) {
+      // A controller that cannot go on (a non-finite estimate, a covariance that cannot be
+      // factored) has lost the offset as surely as a diverged one.
+      result.failure = failure.what();
+      if (result.diverged_at < 0) result.diverged_at = t;
+      break;
+    }
+    error = result.estimate.col(t) - result.offset.col(t);
+    const double distance = error.norm();
+    residuals += (result.z(t) - result.z_star(t)) / result.z_star(t);
+    errors += distance;
+    seconds += result.seconds(t);
+    evaluations += result.q_evaluations(t);
+    if (distance > config.divergence_threshold && result.diverged_at < 0) {
+      result.diverged_at = t;
+      if (config.stop_on_divergence) {
+        ++t;
+        break;
+      }
+    }
+  }
+  result.steps = t;
+  const double steps = static_cast<double>(t);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  result.relative_residual = t > 0 ? residuals / steps : nan;
+  result.estimation_error = t > 0 ? errors / steps : nan;
+  result.seconds_per_assembly = t > 0 ? seconds / steps : nan;
+  result.q_evaluations_per_assembly = t > 0 ? evaluations / steps : nan;
+}
+
+// Checks what run_episode and make_episode_controller share.
+void require_runnable(const CaseTwin& twin, const ExperimentConfig& config,
+                      const ControllerSpec& controller, Index run) {
   require_valid("config", config);
   if (run < 0) {
     throw InvalidArgumentError("run", fmt::format("run: is {}; rule: must be >= 0", run));
-  }
-  const Index available = std::ssize(twin.assemblies());
-  if (config.assemblies > available) {
-    throw InvalidArgumentError(
-        "assemblies", fmt::format("assemblies: is {}; rule: must be <= the twin's {} assemblies",
-                                  config.assemblies, available));
   }
   const Index d = twin.control_dimension();
   const Index candidates =
@@ -182,26 +219,52 @@ EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
                     "candidate_cap, or --candidates)",
                     candidates, controller.label(), d, ExperimentConfig::max_candidates));
   }
-  detail::EpisodeSetup setup;
-  setup.twin = &twin;
-  setup.config = &config;
-  setup.run = RandomStream(config.seed).substream("run").substream(static_cast<std::uint64_t>(run));
-  setup.order = detail::production_order(twin.assemblies(), config.assemblies,
-                                         setup.run.substream("assembly_order"));
+}
+
+EpisodeSetup episode_setup(const CaseTwin& twin, const ExperimentConfig& config, Index run) {
+  return {
+      .twin = &twin,
+      .config = &config,
+      .run = RandomStream(config.seed).substream("run").substream(static_cast<std::uint64_t>(run))};
+}
+
+}  // namespace
+}  // namespace detail
+
+AnyController make_episode_controller(const CaseTwin& twin, const ExperimentConfig& config,
+                                      const ControllerSpec& controller, Index run) {
+  detail::require_runnable(twin, config, controller, run);
+  return detail::make_controller(detail::episode_setup(twin, config, run), controller);
+}
+
+EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
+                          const ControllerSpec& controller, Index run) {
+  detail::require_runnable(twin, config, controller, run);
+  const Index available = std::ssize(twin.assemblies());
+  if (config.assemblies > available) {
+    throw InvalidArgumentError(
+        "assemblies", fmt::format("assemblies: is {}; rule: must be <= the twin's {} assemblies",
+                                  config.assemblies, available));
+  }
+  const Index d = twin.control_dimension();
+  const detail::EpisodeSetup setup = detail::episode_setup(twin, config, run);
+  const std::vector<AssemblyId> order = detail::production_order(
+      twin.assemblies(), config.assemblies, setup.run.substream("assembly_order"));
 
   EpisodeResult result;
   result.group = config.group_name();
   result.controller = controller.label();
   result.run = run;
   result.run_seed = setup.run.seed();
-  result.assemblies = setup.order;
+  result.assemblies = order;
   detail::size_result(result, d, config.assemblies);
+  AnyController episode_controller = detail::make_controller(setup, controller);
   if (d == 1) {
-    detail::run_with_dimension<1>(setup, controller, result);
+    detail::simulate<1>(episode_controller, setup, order, result);
   } else if (d == 3) {
-    detail::run_with_dimension<3>(setup, controller, result);
+    detail::simulate<3>(episode_controller, setup, order, result);
   } else {
-    detail::run_with_dimension<Dynamic>(setup, controller, result);
+    detail::simulate<Dynamic>(episode_controller, setup, order, result);
   }
   return result;
 }

@@ -4,17 +4,11 @@
 
 namespace twincal::detail {
 
-template void run_filtered<1, SphericalRadialSigmaPoints>(const EpisodeSetup&,
-                                                          const ControllerSpec&,
-                                                          const SphericalRadialSigmaPoints&,
-                                                          EpisodeResult&);
-template void run_filtered<3, SphericalRadialSigmaPoints>(const EpisodeSetup&,
-                                                          const ControllerSpec&,
-                                                          const SphericalRadialSigmaPoints&,
-                                                          EpisodeResult&);
-template void run_filtered<Dynamic, SphericalRadialSigmaPoints>(const EpisodeSetup&,
-                                                                const ControllerSpec&,
-                                                                const SphericalRadialSigmaPoints&,
-                                                                EpisodeResult&);
+template AnyController make_filtered<1, SphericalRadialSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
+template AnyController make_filtered<3, SphericalRadialSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
+template AnyController make_filtered<Dynamic, SphericalRadialSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
 
 }  // namespace twincal::detail

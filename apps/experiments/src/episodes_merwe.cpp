@@ -4,15 +4,13 @@
 
 namespace twincal::detail {
 
-template void run_filtered<1, MerweScaledSigmaPoints>(const EpisodeSetup&, const ControllerSpec&,
-                                                      const MerweScaledSigmaPoints&,
-                                                      EpisodeResult&);
-template void run_filtered<3, MerweScaledSigmaPoints>(const EpisodeSetup&, const ControllerSpec&,
-                                                      const MerweScaledSigmaPoints&,
-                                                      EpisodeResult&);
-template void run_filtered<Dynamic, MerweScaledSigmaPoints>(const EpisodeSetup&,
-                                                            const ControllerSpec&,
-                                                            const MerweScaledSigmaPoints&,
-                                                            EpisodeResult&);
+template AnyController make_filtered<1, MerweScaledSigmaPoints>(const EpisodeSetup&,
+                                                                const ControllerSpec&,
+                                                                const MerweScaledSigmaPoints&);
+template AnyController make_filtered<3, MerweScaledSigmaPoints>(const EpisodeSetup&,
+                                                                const ControllerSpec&,
+                                                                const MerweScaledSigmaPoints&);
+template AnyController make_filtered<Dynamic, MerweScaledSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
 
 }  // namespace twincal::detail

@@ -7,12 +7,13 @@
 
 namespace twincal::detail {
 
-template void run_filtered<Dynamic, JulierSigmaPoints>(const EpisodeSetup&, const ControllerSpec&,
-                                                       const JulierSigmaPoints&, EpisodeResult&);
-template void run_filtered<Dynamic, FifthDegreeCubatureSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const FifthDegreeCubatureSigmaPoints&,
-    EpisodeResult&);
-template void run_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetup&, const ControllerSpec&,
-                                                        const SimplexSigmaPoints&, EpisodeResult&);
+template AnyController make_filtered<Dynamic, JulierSigmaPoints>(const EpisodeSetup&,
+                                                                 const ControllerSpec&,
+                                                                 const JulierSigmaPoints&);
+template AnyController make_filtered<Dynamic, FifthDegreeCubatureSigmaPoints>(
+    const EpisodeSetup&, const ControllerSpec&, const FifthDegreeCubatureSigmaPoints&);
+template AnyController make_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetup&,
+                                                                  const ControllerSpec&,
+                                                                  const SimplexSigmaPoints&);
 
 }  // namespace twincal::detail

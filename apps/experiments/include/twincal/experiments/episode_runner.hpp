@@ -13,6 +13,7 @@
 /// Non-estimating controllers (baseline, nominal) assume a calibrated twin: δû_t = 0.
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/experiments/any_controller.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/controller_spec.hpp"
 #include "twincal/experiments/episode_result.hpp"
@@ -27,5 +28,13 @@ namespace twincal {
 ///         recorded in EpisodeResult::failure instead.
 [[nodiscard]] EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
                                         const ControllerSpec& controller, Index run);
+
+/// The controller that run_episode(twin, config, controller, run) drives — the same
+/// construction, seeds and initial estimate δû0 — for an owner that drives it with its own
+/// assemblies and measurements (`twincal serve`, serve_session.hpp).
+/// @throws InvalidArgumentError as run_episode.
+[[nodiscard]] AnyController make_episode_controller(const CaseTwin& twin,
+                                                    const ExperimentConfig& config,
+                                                    const ControllerSpec& controller, Index run);
 
 }  // namespace twincal

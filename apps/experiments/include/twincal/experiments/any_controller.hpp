@@ -1,0 +1,109 @@
+#pragma once
+/// @file
+/// `AnyController`: a type-erased controller over AssemblyId (controllers' controller.hpp), so
+/// that the episode loop, `twincal serve` and the Python bindings drive every controller the
+/// experiments build — baseline, nominal, default, the w-controllers over every filter, sampler
+/// and loss, per-component, active — through one type, compiled once. Controls and estimates go
+/// in and out through Eigen::Ref, so a fixed-size controller (d = 1, 3) keeps its fixed-size
+/// arithmetic and a step allocates nothing the wrapped controller does not. Move-only: a
+/// controller is state.
+
+#include <concepts>
+#include <limits>
+#include <memory>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "twincal/controllers/controller.hpp"
+#include "twincal/core/eigen.hpp"
+#include "twincal/models/assembly_id.hpp"
+
+namespace twincal {
+
+class AnyController {
+ public:
+  using Assembly = AssemblyId;
+
+  /// Wraps `controller` (moved in), which controls `control_dimension` locators.
+  template <Controller C>
+  requires std::same_as<typename C::Assembly, AssemblyId> AnyController(C controller,
+                                                                        Index control_dimension)
+      : model_(std::make_unique<Model<C>>(std::move(controller), control_dimension)) {}
+
+  [[nodiscard]] Index control_dimension() const noexcept { return model_->dimension; }
+  /// Whether the controller estimates the offset (EstimatingController: δû_t and P_t, eq. 8).
+  [[nodiscard]] bool estimates() const noexcept { return model_->estimates(); }
+
+  /// u_t = controller.propose(x_t), into `control` (d entries).
+  void propose(const AssemblyId& assembly, Eigen::Ref<VectorX> control) {
+    model_->propose(assembly, control);
+  }
+  /// controller.observe(x_t, u_t, z_t).
+  void observe(const AssemblyId& assembly, const Eigen::Ref<const VectorX>& control, double z) {
+    model_->observe(assembly, control, z);
+  }
+  /// δû_t into `out` (d entries); zero for a controller that does not estimate (it assumes a
+  /// calibrated twin).
+  void offset_estimate(Eigen::Ref<VectorX> out) const { model_->offset_estimate(out); }
+  /// P_t into `out` (d × d); NaN for a controller that does not estimate.
+  void offset_covariance(Eigen::Ref<MatrixX> out) const { model_->offset_covariance(out); }
+  /// tr P_t; NaN for a controller that does not estimate.
+  [[nodiscard]] double offset_covariance_trace() const { return model_->covariance_trace(); }
+
+ private:
+  struct Concept {
+    explicit Concept(Index d) : dimension(d) {}
+    virtual ~Concept() = default;
+    [[nodiscard]] virtual bool estimates() const noexcept = 0;
+    virtual void propose(const AssemblyId&, Eigen::Ref<VectorX>) = 0;
+    virtual void observe(const AssemblyId&, const Eigen::Ref<const VectorX>&, double) = 0;
+    virtual void offset_estimate(Eigen::Ref<VectorX>) const = 0;
+    virtual void offset_covariance(Eigen::Ref<MatrixX>) const = 0;
+    [[nodiscard]] virtual double covariance_trace() const = 0;
+    Index dimension;
+  };
+
+  template <typename C>
+  struct Model final : Concept {
+    Model(C c, Index d) : Concept(d), controller(std::move(c)), control(d) {}
+    [[nodiscard]] bool estimates() const noexcept override { return EstimatingController<C>; }
+    void propose(const AssemblyId& assembly, Eigen::Ref<VectorX> out) override {
+      out = controller.propose(assembly);
+    }
+    void observe(const AssemblyId& assembly, const Eigen::Ref<const VectorX>& u,
+                 double z) override {
+      // Into the controller's own vector type, sized once: no allocation per step, and the
+      // look-ahead's "is this my proposal?" test sees the same bits.
+      control = u;
+      controller.observe(assembly, control, z);
+    }
+    void offset_estimate(Eigen::Ref<VectorX> out) const override {
+      if constexpr (EstimatingController<C>) {
+        out = controller.offset_estimate();
+      } else {
+        out.setZero();
+      }
+    }
+    void offset_covariance(Eigen::Ref<MatrixX> out) const override {
+      if constexpr (EstimatingController<C>) {
+        out = controller.offset_covariance();
+      } else {
+        out.setConstant(std::numeric_limits<double>::quiet_NaN());
+      }
+    }
+    [[nodiscard]] double covariance_trace() const override {
+      if constexpr (EstimatingController<C>) {
+        return controller.offset_covariance().trace();
+      } else {
+        return std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+    C controller;
+    typename C::ControlVector control;
+  };
+
+  std::unique_ptr<Concept> model_;
+};
+
+}  // namespace twincal

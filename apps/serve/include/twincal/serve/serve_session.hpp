@@ -1,0 +1,130 @@
+#pragma once
+/// @file
+/// `ServeSession`: the online controller of `twincal serve` — the paper's Fig. 1 loop with a
+/// real cell on the other side. Per assembly the cell sends `propose` (which assembly), the
+/// session answers with the locator adjustment u_t; after welding the cell sends `observe` (the
+/// measured quality z_t) and the controller learns from it (eq. 5a–b, 8). One request at a time:
+/// the controllers predict in propose and update in observe, so a second propose before the
+/// first one's observation is refused (unless it repeats the pending request's assembly: then
+/// the pending proposal is answered again, so a client that lost a reply retries safely).
+///
+/// Nothing is lost: each proposal, and each observation with δû_t and P_t after it, is in the
+/// HistoryStore before the reply leaves. resume() rebuilds the controller from the settings and
+/// replays the history, checking every recomputed control and estimate against the recorded
+/// one bit for bit, so a session killed at any moment continues exactly where it was.
+///
+/// `predict` asks the twin for Q(x, u) without touching the controller (what a simulated cell
+/// or an engineer checking a control needs). The protocol (docs/serve.md) is one JSON object
+/// per line; handle() maps a request line to a
+/// reply line and never throws for a bad request: a malformed, oversized or unknown request, an
+/// unknown assembly, an observation of an unknown or already observed request, a non-finite
+/// quality get {"ok": false, "error": {"field", "message"}} and change nothing.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/experiments/any_controller.hpp"
+#include "twincal/experiments/case_twin.hpp"
+#include "twincal/experiments/controller_spec.hpp"
+#include "twincal/experiments/experiment_config.hpp"
+#include "twincal/serve/history_store.hpp"
+
+namespace twincal {
+
+/// What a new session controls: the twin case and the controller's settings of `config` (its
+/// `controllers` and `runs` are not used), `controller`, built with the seeds of `run` as
+/// `twincal run` builds it (episode_runner.hpp's make_episode_controller).
+struct ServeOptions {
+  ExperimentConfig config;
+  ControllerSpec controller = ControllerSpec::active();
+  Index run = 0;
+  Durability durability = Durability::full;
+
+  [[nodiscard]] std::optional<std::string> validate() const;
+};
+
+/// The history does not replay to what it recorded (another twincal build, a hand-edited
+/// database); the message names the request and the quantity that differs.
+class HistoryMismatchError : public Error {
+ public:
+  using Error::Error;
+};
+
+class ServeSession {
+ public:
+  /// A line longer than this (without its newline) is refused unread.
+  static constexpr std::size_t max_line_bytes = 1 << 20;
+
+  /// A new session writing to a new database at `database`.
+  /// @throws InvalidArgumentError for invalid options; HistoryStoreError.
+  [[nodiscard]] static ServeSession start(const ServeOptions& options,
+                                          const std::filesystem::path& database);
+  /// The session of `database`, its history replayed.
+  /// @throws HistoryStoreError; HistoryMismatchError.
+  [[nodiscard]] static ServeSession resume(const std::filesystem::path& database,
+                                           Durability durability = Durability::full);
+
+  /// One request line → one reply line (without newline). @throws HistoryStoreError when the
+  /// database cannot be written: the session must then stop (resume() continues from what the
+  /// database holds).
+  [[nodiscard]] std::string handle(std::string_view line);
+  /// The reply to a line that exceeded max_line_bytes.
+  [[nodiscard]] static std::string oversized_reply(std::size_t bytes);
+
+  /// Whether a `shutdown` request was served.
+  [[nodiscard]] bool finished() const noexcept { return finished_; }
+  /// Observations so far.
+  [[nodiscard]] std::int64_t observed() const noexcept { return observed_; }
+  /// The body of the `state` reply: controller, locators, observed, pending, δû, P.
+  [[nodiscard]] nlohmann::json state() const;
+  [[nodiscard]] const HistoryStore& history() const noexcept { return store_; }
+  [[nodiscard]] const CaseTwin& twin() const noexcept { return *twin_; }
+
+ private:
+  struct Pending {
+    std::int64_t request_id = 0;
+    AssemblyId assembly;
+    nlohmann::json assembly_json;
+    VectorX control;
+    nlohmann::json reply;
+  };
+
+  // Builds the controller over `twin`, which stays where it is: the controller refers to it.
+  ServeSession(ServeOptions options, std::unique_ptr<const CaseTwin> twin, HistoryStore store);
+
+  [[nodiscard]] nlohmann::json propose(const nlohmann::json& request);
+  [[nodiscard]] nlohmann::json observe(const nlohmann::json& request);
+  [[nodiscard]] nlohmann::json predict(const nlohmann::json& request) const;
+  [[nodiscard]] AssemblyId parse_assembly(const nlohmann::json& request) const;
+  // u_t and the report, without touching the store.
+  [[nodiscard]] nlohmann::json make_proposal(std::int64_t request_id, const AssemblyId& assembly,
+                                             const nlohmann::json& assembly_json);
+  // δû_t and P_t as JSON.
+  [[nodiscard]] nlohmann::json estimate_json() const;
+  [[nodiscard]] nlohmann::json covariance_json() const;
+  void replay();
+  // Rebuilds the controller from the settings and the store (after a failed step).
+  void rebuild();
+
+  ServeOptions options_;
+  std::unique_ptr<const CaseTwin> twin_;  // heap: the controller holds its address
+  AnyController controller_;
+  HistoryStore store_;
+  std::optional<Pending> pending_;
+  std::int64_t next_request_ = 1;
+  std::int64_t observed_ = 0;
+  bool finished_ = false;
+  VectorX control_;             // workspaces: d
+  mutable VectorX estimate_;    // d
+  mutable MatrixX covariance_;  // d × d
+};
+
+}  // namespace twincal

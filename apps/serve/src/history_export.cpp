@@ -1,0 +1,57 @@
+// write_history_csv (history_export.hpp).
+#include "twincal/serve/history_export.hpp"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+
+// A number as the shortest text that reads back to it; null (no value) as an empty field.
+std::string field(const json& value) { return value.is_number() ? value.dump() : std::string(); }
+
+}  // namespace
+
+void write_history_csv(const HistoryStore& store, std::ostream& out) {
+  const json settings = store.settings();
+  std::vector<std::string> names;
+  try {
+    names = json::parse(settings.at("locator_names").get<std::string>())
+                .get<std::vector<std::string>>();
+  } catch (const json::exception& error) {
+    throw HistoryStoreError(store.path().string(),
+                            fmt::format("{}: its locator names cannot be read ({})",
+                                        store.path().string(), error.what()));
+  }
+  out << "request_id,upper,lower,proposed_at,observed_at,quality,optimal_quality";
+  for (const char* prefix : {"control_", "estimate_", "sd_"}) {
+    for (const std::string& name : names) out << ',' << prefix << name;
+  }
+  out << '\n';
+  const std::size_t d = names.size();
+  for (const HistoryRecord& record : store.records()) {
+    out << record.request_id << ',' << record.assembly.at(0) << ',' << record.assembly.at(1) << ','
+        << record.proposed_at << ',' << record.observed_at << ','
+        << (record.quality ? json(*record.quality).dump() : std::string()) << ','
+        << field(record.report.value("optimal_quality", json()));
+    for (std::size_t i = 0; i < d; ++i) out << ',' << field(record.control.at(i));
+    for (std::size_t i = 0; i < d; ++i) {
+      out << ',' << (record.quality ? field(record.estimate.at(i)) : std::string());
+    }
+    for (std::size_t i = 0; i < d; ++i) {
+      std::string sd;
+      if (record.quality && record.covariance.at(i).at(i).is_number()) {
+        sd = json(std::sqrt(record.covariance.at(i).at(i).get<double>())).dump();
+      }
+      out << ',' << sd;
+    }
+    out << '\n';
+  }
+}
+
+}  // namespace twincal

@@ -1,0 +1,390 @@
+// ServeSession (serve_session.hpp): the protocol, the history and its replay.
+#include "twincal/serve/serve_session.hpp"
+
+#include <cmath>
+#include <exception>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "twincal/core/options.hpp"
+#include "twincal/experiments/episode_runner.hpp"
+#include "twincal/experiments/twin_cases.hpp"
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* operations = "propose, observe, predict, state, checkpoint, shutdown";
+
+// JSON has no NaN: a non-finite entry (a controller without P) is null, in replies and in the
+// history alike, so a replay compares like with like.
+json vector_json(const Eigen::Ref<const VectorX>& v) {
+  json out = json::array();
+  for (Index i = 0; i < v.size(); ++i) {
+    out.push_back(std::isfinite(v(i)) ? json(v(i)) : json(nullptr));
+  }
+  return out;
+}
+
+json error_reply(const json& op, const std::string& field, const std::string& message) {
+  return {{"ok", false}, {"op", op}, {"error", {{"field", field}, {"message", message}}}};
+}
+
+// Refuses keys a request of `op` does not take, naming the first one.
+void require_keys(const json& request, std::string_view op,
+                  std::initializer_list<std::string_view> allowed) {
+  for (const auto& [key, value] : request.items()) {
+    bool known = key == "op";
+    for (const std::string_view name : allowed) known = known || key == name;
+    if (!known) {
+      std::string list = "op";
+      for (const std::string_view name : allowed) list += fmt::format(", {}", name);
+      throw InvalidArgumentError(
+          key, fmt::format("{}: is not a field of {}; rule: {} takes {}", key, op, op, list));
+    }
+  }
+}
+
+ExperimentConfig settings_config(const json& settings) {
+  return json::parse(settings.at("config").get<std::string>()).get<ExperimentConfig>();
+}
+
+}  // namespace
+
+std::optional<std::string> ServeOptions::validate() const {
+  if (auto problem = config.validate()) return "config: " + *problem;
+  if (run < 0) return fmt::format("run: is {}; rule: must be >= 0", run);
+  return std::nullopt;
+}
+
+ServeSession::ServeSession(ServeOptions options, std::unique_ptr<const CaseTwin> twin,
+                           HistoryStore store)
+    : options_(std::move(options)),
+      twin_(std::move(twin)),
+      controller_(
+          make_episode_controller(*twin_, options_.config, options_.controller, options_.run)),
+      store_(std::move(store)),
+      control_(twin_->control_dimension()),
+      estimate_(twin_->control_dimension()),
+      covariance_(twin_->control_dimension(), twin_->control_dimension()) {}
+
+ServeSession ServeSession::start(const ServeOptions& options,
+                                 const std::filesystem::path& database) {
+  require_valid("options", options);
+  auto twin = std::make_unique<const CaseTwin>(make_case_twin(options.config));
+  // Checks the controller's settings before the database exists.
+  (void)make_episode_controller(*twin, options.config, options.controller, options.run);
+  const json settings = {{"config", json(options.config).dump()},
+                         {"locator_names", json(twin->locator_names()).dump()},
+                         {"controller", options.controller.label()},
+                         {"run", std::to_string(options.run)},
+                         {"twincal_version", TWINCAL_VERSION}};
+  HistoryStore store = HistoryStore::create(database, settings, options.durability);
+  return {options, std::move(twin), std::move(store)};
+}
+
+ServeSession ServeSession::resume(const std::filesystem::path& database, Durability durability) {
+  HistoryStore store = HistoryStore::open(database, durability);
+  const json settings = store.settings();
+  ServeOptions options;
+  try {
+    options.config = settings_config(settings);
+    options.controller = ControllerSpec::parse(settings.at("controller").get<std::string>());
+    options.run = std::stoll(settings.at("run").get<std::string>());
+  } catch (const std::exception& error) {
+    throw HistoryStoreError(database.string(), fmt::format("{}: its settings cannot be read ({})",
+                                                           database.string(), error.what()));
+  }
+  options.durability = durability;
+  ServeSession session(options, std::make_unique<const CaseTwin>(make_case_twin(options.config)),
+                       std::move(store));
+  session.replay();
+  return session;
+}
+
+std::string ServeSession::oversized_reply(std::size_t bytes) {
+  return error_reply(nullptr, "line",
+                     fmt::format("line: has {} bytes; rule: at most {} bytes per request", bytes,
+                                 max_line_bytes))
+      .dump();
+}
+
+std::string ServeSession::handle(std::string_view line) {
+  if (line.size() > max_line_bytes) return oversized_reply(line.size());
+  json request;
+  try {
+    request = json::parse(line);
+  } catch (const json::parse_error& error) {
+    return error_reply(nullptr, "line", fmt::format("line: is not JSON ({})", error.what())).dump();
+  }
+  if (!request.is_object()) {
+    return error_reply(
+               nullptr, "line",
+               fmt::format("line: is a JSON {}; rule: a request is an object", request.type_name()))
+        .dump();
+  }
+  const auto op_it = request.find("op");
+  if (op_it == request.end() || !op_it->is_string()) {
+    return error_reply(nullptr, "op",
+                       fmt::format("op: is missing or not a string; rule: one of {}", operations))
+        .dump();
+  }
+  const std::string op = op_it->get<std::string>();
+  try {
+    if (op == "propose") return propose(request).dump();
+    if (op == "observe") return observe(request).dump();
+    if (op == "predict") return predict(request).dump();
+    if (op == "state") {
+      require_keys(request, op, {});
+      json reply = state();
+      reply["ok"] = true;
+      reply["op"] = op;
+      return reply.dump();
+    }
+    if (op == "checkpoint") {
+      require_keys(request, op, {});
+      const std::uintmax_t bytes = store_.checkpoint();
+      return json{{"ok", true}, {"op", op}, {"database", store_.path().string()}, {"bytes", bytes}}
+          .dump();
+    }
+    if (op == "shutdown") {
+      require_keys(request, op, {});
+      finished_ = true;
+      return json{{"ok", true}, {"op", op}, {"observed", observed_}}.dump();
+    }
+    return error_reply(op, "op", fmt::format("op: is \"{}\"; rule: one of {}", op, operations))
+        .dump();
+  } catch (const HistoryStoreError&) {
+    throw;
+  } catch (const Error& error) {
+    return error_reply(op, error.argument(), error.what()).dump();
+  }
+}
+
+AssemblyId ServeSession::parse_assembly(const json& request) const {
+  const auto it = request.find("assembly");
+  if (it == request.end()) {
+    throw InvalidArgumentError("assembly",
+                               "assembly: is missing; rule: propose names the "
+                               "assembly, as an index or [upper, lower]");
+  }
+  const std::vector<AssemblyId>& all = twin_->assemblies();
+  if (it->is_number_integer()) {
+    const auto index = it->get<std::int64_t>();
+    if (index < 0 || index >= std::ssize(all)) {
+      throw InvalidArgumentError(
+          "assembly", fmt::format("assembly: is {}; rule: an index must lie in [0, {}]", index,
+                                  std::ssize(all) - 1));
+    }
+    return all[static_cast<std::size_t>(index)];
+  }
+  if (it->is_array() && it->size() == 2 && (*it)[0].is_number_integer() &&
+      (*it)[1].is_number_integer()) {
+    const AssemblyId id{(*it)[0].get<Index>(), (*it)[1].get<Index>()};
+    if (std::find(all.begin(), all.end(), id) == all.end()) {
+      throw InvalidArgumentError(
+          "assembly", fmt::format("assembly: is [{}, {}]; rule: must be one of the twin's {} "
+                                  "assemblies",
+                                  id.upper, id.lower, all.size()));
+    }
+    return id;
+  }
+  throw InvalidArgumentError("assembly", fmt::format("assembly: is {}; rule: an index or [upper, "
+                                                     "lower] (integers)",
+                                                     it->dump()));
+}
+
+json ServeSession::estimate_json() const {
+  controller_.offset_estimate(estimate_);
+  return vector_json(estimate_);
+}
+
+json ServeSession::covariance_json() const {
+  controller_.offset_covariance(covariance_);
+  json rows = json::array();
+  for (Index i = 0; i < covariance_.rows(); ++i) rows.push_back(vector_json(covariance_.row(i)));
+  return rows;
+}
+
+json ServeSession::make_proposal(std::int64_t request_id, const AssemblyId& assembly,
+                                 const json& assembly_json) {
+  const std::uint64_t before = CaseTwin::evaluations_on_this_thread();
+  controller_.propose(assembly, control_);
+  const std::uint64_t evaluations = CaseTwin::evaluations_on_this_thread() - before;
+  const VectorX optimum = twin_->optimum(assembly);
+  json standard_deviation = json::array();
+  controller_.offset_covariance(covariance_);
+  for (Index i = 0; i < covariance_.rows(); ++i) {
+    const double sd = std::sqrt(covariance_(i, i));
+    standard_deviation.push_back(std::isfinite(sd) ? json(sd) : json(nullptr));
+  }
+  return {{"ok", true},
+          {"op", "propose"},
+          {"request_id", request_id},
+          {"assembly", assembly_json},
+          {"control", vector_json(control_)},
+          {"report",
+           {{"optimum", vector_json(optimum)},
+            {"optimal_quality", twin_->optimal_quality(assembly)},
+            {"estimate", estimate_json()},
+            {"standard_deviation", standard_deviation},
+            {"twin_evaluations", evaluations}}}};
+}
+
+json ServeSession::propose(const json& request) {
+  require_keys(request, "propose", {"assembly"});
+  const AssemblyId assembly = parse_assembly(request);
+  if (pending_) {
+    if (pending_->assembly == assembly) {
+      json reply = pending_->reply;
+      reply["repeated"] = true;
+      return reply;
+    }
+    throw InvalidArgumentError(
+        "op",
+        fmt::format("op: propose while request {} (assembly [{}, {}]) awaits its "
+                    "observation; rule: one assembly at a time — observe it first",
+                    pending_->request_id, pending_->assembly.upper, pending_->assembly.lower));
+  }
+  const json assembly_json = {assembly.upper, assembly.lower};
+  json reply;
+  try {
+    reply = make_proposal(next_request_, assembly, assembly_json);
+  } catch (...) {
+    rebuild();  // the controller may have predicted: back to what the history holds
+    throw;
+  }
+  store_.record_proposal(next_request_, assembly_json, reply["control"], reply["report"]);
+  pending_ = Pending{next_request_, assembly, assembly_json, control_, reply};
+  ++next_request_;
+  return reply;
+}
+
+json ServeSession::observe(const json& request) {
+  require_keys(request, "observe", {"request_id", "quality"});
+  const auto id_it = request.find("request_id");
+  if (id_it == request.end() || !id_it->is_number_integer()) {
+    throw InvalidArgumentError("request_id",
+                               "request_id: is missing or not an integer; rule: observe names "
+                               "the request_id of its proposal");
+  }
+  const auto request_id = id_it->get<std::int64_t>();
+  const auto quality_it = request.find("quality");
+  if (quality_it == request.end() || !quality_it->is_number() ||
+      !std::isfinite(quality_it->get<double>())) {
+    throw InvalidArgumentError(
+        "quality", fmt::format("quality: is {}; rule: must be a finite number",
+                               quality_it == request.end() ? "missing" : quality_it->dump()));
+  }
+  const double quality = quality_it->get<double>();
+  if (!pending_ || pending_->request_id != request_id) {
+    const std::string rule =
+        pending_ ? fmt::format("request {} awaits its observation", pending_->request_id)
+                 : std::string("no request awaits an observation");
+    const bool past = request_id >= 1 && request_id < next_request_;
+    throw InvalidArgumentError("request_id",
+                               fmt::format("request_id: {} {}; rule: {}", request_id,
+                                           past ? "was already observed" : "is unknown", rule));
+  }
+  try {
+    controller_.observe(pending_->assembly, pending_->control, quality);
+  } catch (...) {
+    rebuild();
+    throw;
+  }
+  json estimate = estimate_json();
+  json covariance = covariance_json();
+  store_.record_observation(request_id, quality, estimate, covariance);
+  pending_.reset();
+  ++observed_;
+  return {{"ok", true},           {"op", "observe"},          {"request_id", request_id},
+          {"estimate", estimate}, {"covariance", covariance}, {"observed", observed_}};
+}
+
+json ServeSession::predict(const json& request) const {
+  require_keys(request, "predict", {"assembly", "control"});
+  const AssemblyId assembly = parse_assembly(request);
+  const auto it = request.find("control");
+  const Index d = twin_->control_dimension();
+  if (it == request.end() || !it->is_array() || std::ssize(*it) != d) {
+    throw InvalidArgumentError("control",
+                               fmt::format("control: is {}; rule: an array of {} numbers",
+                                           it == request.end() ? "missing" : it->dump(), d));
+  }
+  VectorX control(d);
+  for (Index i = 0; i < d; ++i) {
+    const json& entry = (*it)[static_cast<std::size_t>(i)];
+    if (!entry.is_number() || !std::isfinite(entry.get<double>())) {
+      throw InvalidArgumentError(
+          "control",
+          fmt::format("control[{}]: is {}; rule: must be a finite number", i, entry.dump()));
+    }
+    control(i) = entry.get<double>();
+  }
+  return {{"ok", true},
+          {"op", "predict"},
+          {"assembly", {assembly.upper, assembly.lower}},
+          {"quality", twin_->plant_quality(assembly, control)}};
+}
+
+json ServeSession::state() const {
+  json pending = nullptr;
+  if (pending_) {
+    pending = {{"request_id", pending_->request_id},
+               {"assembly", pending_->assembly_json},
+               {"control", vector_json(pending_->control)}};
+  }
+  return {{"controller", options_.controller.label()},
+          {"group", options_.config.group_name()},
+          {"locators", twin_->locator_names()},
+          {"observed", observed_},
+          {"pending", pending},
+          {"estimate", estimate_json()},
+          {"covariance", covariance_json()},
+          {"database", store_.path().string()}};
+}
+
+void ServeSession::replay() {
+  const std::vector<HistoryRecord> records = store_.records();
+  for (std::size_t r = 0; r < records.size(); ++r) {
+    const HistoryRecord& record = records[r];
+    const auto mismatch = [&](std::string_view what) {
+      return HistoryMismatchError(
+          store_.path().string(),
+          fmt::format("{}: request {} replays to another {} than the one recorded; rule: a "
+                      "history resumes with the twincal build that wrote it",
+                      store_.path().string(), record.request_id, what));
+    };
+    if (record.request_id != next_request_) throw mismatch("request_id");
+    AssemblyId assembly;
+    try {
+      assembly = {record.assembly.at(0).get<Index>(), record.assembly.at(1).get<Index>()};
+    } catch (const json::exception&) {
+      throw mismatch("assembly");
+    }
+    const json reply = make_proposal(record.request_id, assembly, record.assembly);
+    if (reply["control"] != record.control) throw mismatch("control");
+    ++next_request_;
+    if (!record.quality) {
+      if (r + 1 != records.size()) throw mismatch("observation (none, yet later requests exist)");
+      pending_ = Pending{record.request_id, assembly, record.assembly, control_, reply};
+      continue;
+    }
+    controller_.observe(assembly, control_, *record.quality);
+    if (estimate_json() != record.estimate) throw mismatch("estimate");
+    if (covariance_json() != record.covariance) throw mismatch("covariance");
+    ++observed_;
+  }
+}
+
+void ServeSession::rebuild() {
+  controller_ = make_episode_controller(*twin_, options_.config, options_.controller, options_.run);
+  pending_.reset();
+  next_request_ = 1;
+  observed_ = 0;
+  replay();
+}
+
+}  // namespace twincal

@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""`twincal history` and `twincal plot --history` end to end: a short session through the
+server's stdin, its history exported as CSV (one row per request, the pending one with empty
+observation fields), then drawn as PNG and SVG.
+
+    history_and_plot.py TWINCAL
+"""
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+
+def main():
+    twincal = sys.argv[1]
+    with tempfile.TemporaryDirectory() as scratch:
+        database = os.path.join(scratch, "cell.db")
+        server = subprocess.Popen(
+            [twincal, "serve", "--db", database, "--case", "analytic", "--dimension", "2",
+             "--locators", "all", "--controller", "w=1", "--durability", "normal"],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
+        for t in range(12):
+            server.stdin.write(json.dumps({"op": "propose", "assembly": t}) + "\n")
+            proposal = json.loads(server.stdout.readline())
+            if t < 11:  # the last request stays pending
+                server.stdin.write(json.dumps({"op": "observe", "request_id": proposal["request_id"],
+                                               "quality": 0.8 + 0.01 * t}) + "\n")
+                assert json.loads(server.stdout.readline())["ok"]
+        server.stdin.close()  # end of input ends the server
+        assert server.wait(timeout=30) == 0
+
+        history = os.path.join(scratch, "cell.csv")
+        subprocess.run([twincal, "history", "--db", database, "--out", history], check=True)
+        with open(history, encoding="utf-8", newline="") as f:
+            rows = list(csv.DictReader(f))
+        assert len(rows) == 12, rows
+        assert [row["request_id"] for row in rows] == [str(t) for t in range(1, 13)]
+        assert float(rows[3]["quality"]) == 0.8 + 0.01 * 3  # bit for bit
+        assert rows[0]["sd_A"] != "" and rows[0]["estimate_B"] != ""
+        assert rows[11]["quality"] == "" and rows[11]["observed_at"] == "", rows[11]
+
+        figures = os.path.join(scratch, "figures")
+        subprocess.run([twincal, "plot", "--history", history, "--out", figures], check=True)
+        for extension in ("png", "svg"):
+            path = os.path.join(figures, f"cell.{extension}")
+            assert os.path.getsize(path) > 1000, path
+    print("history: 12 rows (1 pending); cell.png and cell.svg drawn")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

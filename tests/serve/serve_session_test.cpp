@@ -1,0 +1,228 @@
+#include "twincal/serve/serve_session.hpp"
+
+#include <sqlite3.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "serve_testing.hpp"
+
+#include "twincal/experiments/episode_runner.hpp"
+
+namespace twincal {
+namespace {
+
+using ::testing::HasSubstr;
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+using testing::analytic_options;
+using testing::TemporaryDatabase;
+
+json call(ServeSession& session, const json& request) {
+  return json::parse(session.handle(request.dump()));
+}
+
+// The cell: the plant is the twin with its locators shifted by a fixed offset δu*.
+double plant(const ServeSession& session, Index assembly, const json& control) {
+  VectorX u(std::ssize(control));
+  for (Index i = 0; i < u.size(); ++i) {
+    u(i) = control[static_cast<std::size_t>(i)].get<double>() - 0.04 * static_cast<double>(i + 1);
+  }
+  return session.twin().plant_quality(
+      session.twin().assemblies()[static_cast<std::size_t>(assembly)], u);
+}
+
+// Assemblies [from, to) of the cell: the controls proposed.
+std::vector<json> drive(ServeSession& session, int from, int to) {
+  std::vector<json> controls;
+  for (int t = from; t < to; ++t) {
+    const Index assembly = (7 * t) % 100;
+    const json proposal = call(session, {{"op", "propose"}, {"assembly", assembly}});
+    EXPECT_TRUE(proposal["ok"].get<bool>()) << proposal.dump();
+    const json observed =
+        call(session, {{"op", "observe"},
+                       {"request_id", proposal["request_id"]},
+                       {"quality", plant(session, assembly, proposal["control"])}});
+    EXPECT_TRUE(observed["ok"].get<bool>()) << observed.dump();
+    controls.push_back(proposal["control"]);
+  }
+  return controls;
+}
+
+TEST(ServeSession, ProposesTheControlsOfTheEpisodeControllerDrivenDirectly) {
+  const TemporaryDatabase database;
+  const ServeOptions options = analytic_options("active");
+  ServeSession session = ServeSession::start(options, database.get());
+  const std::vector<json> controls = drive(session, 0, 12);
+
+  AnyController direct =
+      make_episode_controller(session.twin(), options.config, options.controller, options.run);
+  VectorX u(3);
+  for (int t = 0; t < 12; ++t) {
+    const Index assembly = (7 * t) % 100;
+    const AssemblyId x = session.twin().assemblies()[static_cast<std::size_t>(assembly)];
+    direct.propose(x, u);
+    for (Index i = 0; i < 3; ++i) {
+      ASSERT_EQ(u(i), controls[static_cast<std::size_t>(t)][static_cast<std::size_t>(i)])
+          << "assembly " << t;
+    }
+    json u_json = json::array({u(0), u(1), u(2)});
+    direct.observe(x, u, plant(session, assembly, u_json));
+  }
+  EXPECT_EQ(session.observed(), 12);
+  EXPECT_EQ(session.history().records().size(), 12U);
+}
+
+// Resuming after any record is the same as never stopping, for filtered and unfiltered
+// controllers alike (the baseline's covariance is null in the history).
+TEST(ServeSession, ResumesBitForBitFromItsHistory) {
+  for (const std::string controller : {"active", "w=0.5", "default", "baseline"}) {
+    const TemporaryDatabase whole_db;
+    ServeSession whole = ServeSession::start(analytic_options(controller), whole_db.get());
+    const std::vector<json> expected = drive(whole, 0, 16);
+
+    const TemporaryDatabase split_db;
+    std::vector<json> controls;
+    {
+      ServeSession first = ServeSession::start(analytic_options(controller), split_db.get());
+      controls = drive(first, 0, 7);
+      // Killed between a proposal and its observation.
+      EXPECT_TRUE(call(first, {{"op", "propose"}, {"assembly", (7 * 7) % 100}})["ok"].get<bool>());
+    }
+    ServeSession second = ServeSession::resume(split_db.get(), Durability::normal);
+    EXPECT_EQ(second.observed(), 7) << controller;
+    ASSERT_FALSE(second.state()["pending"].is_null()) << controller;
+    // The cell re-sends the pending assembly and gets the same proposal back.
+    const json again = call(second, {{"op", "propose"}, {"assembly", (7 * 7) % 100}});
+    EXPECT_TRUE(again["repeated"].get<bool>());
+    EXPECT_EQ(again["control"], expected[7]) << controller;
+    ASSERT_TRUE(call(second, {{"op", "observe"},
+                              {"request_id", again["request_id"]},
+                              {"quality", plant(second, 49, again["control"])}})["ok"]
+                    .get<bool>());
+    const std::vector<json> rest = drive(second, 8, 16);
+    controls.push_back(again["control"]);
+    controls.insert(controls.end(), rest.begin(), rest.end());
+    EXPECT_EQ(controls, expected) << controller;
+    EXPECT_EQ(second.state()["estimate"], whole.state()["estimate"]) << controller;
+    EXPECT_EQ(second.state()["covariance"], whole.state()["covariance"]) << controller;
+  }
+}
+
+TEST(ServeSession, AnswersEveryBadRequestWithAnErrorAndChangesNothing) {
+  const TemporaryDatabase database;
+  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+  drive(session, 0, 3);
+  const json pending = call(session, {{"op", "propose"}, {"assembly", 5}});
+  ASSERT_TRUE(pending["ok"].get<bool>());
+  const json before = session.state();
+  const std::size_t records = session.history().records().size();
+  const std::int64_t id = pending["request_id"].get<std::int64_t>();
+
+  struct Case {
+    std::string line;
+    std::string field;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"{not json", "line", "line: is not JSON"},
+      {"[1, 2]", "line", "line: is a JSON array; rule: a request is an object"},
+      {R"({"assembly": 1})", "op", "op: is missing or not a string"},
+      {R"({"op": "fly"})", "op", R"(op: is "fly"; rule: one of propose, observe, predict)"},
+      {R"({"op": "state", "verbose": true})", "verbose",
+       "verbose: is not a field of state; rule: state takes op"},
+      {R"({"op": "propose", "assembly": 6})", "op",
+       fmt::format("op: propose while request {} (assembly", id)},
+      {R"({"op": "propose", "assembly": 100})", "assembly",
+       "assembly: is 100; rule: an index must lie in [0, 99]"},
+      {R"({"op": "propose", "assembly": [99, 99]})", "assembly",
+       "assembly: is [99, 99]; rule: must be one of the twin's 100 assemblies"},
+      {R"({"op": "propose", "assembly": "x"})", "assembly", "assembly: is \"x\"; rule: an index"},
+      {R"({"op": "propose", "assembly": 5, "parts": {}})", "parts",
+       "parts: is not a field of propose"},
+      {fmt::format(R"({{"op": "observe", "request_id": {}, "quality": null}})", id), "quality",
+       "quality: is null; rule: must be a finite number"},
+      {fmt::format(R"({{"op": "observe", "request_id": {}, "quality": "nan"}})", id), "quality",
+       "quality: is \"nan\"; rule: must be a finite number"},
+      {fmt::format(R"({{"op": "observe", "request_id": {}}})", id), "quality",
+       "quality: is missing"},
+      {R"({"op": "observe", "request_id": 1, "quality": 1.0})", "request_id",
+       fmt::format("request_id: 1 was already observed; rule: request {} awaits", id)},
+      {R"({"op": "observe", "request_id": 99, "quality": 1.0})", "request_id",
+       "request_id: 99 is unknown"},
+      {R"({"op": "observe", "request_id": "4", "quality": 1.0})", "request_id",
+       "request_id: is missing or not an integer"},
+      {R"({"op": "predict", "assembly": 5, "control": [0, 0]})", "control",
+       "control: is [0,0]; rule: an array of 3 numbers"},
+      {std::string(ServeSession::max_line_bytes + 1, ' '), "line",
+       fmt::format("line: has {} bytes; rule: at most {} bytes", ServeSession::max_line_bytes + 1,
+                   ServeSession::max_line_bytes)},
+  };
+  for (const Case& c : cases) {
+    const json reply = json::parse(session.handle(c.line));
+    EXPECT_FALSE(reply["ok"].get<bool>()) << c.line.substr(0, 80);
+    EXPECT_EQ(reply["error"]["field"], c.field) << c.line.substr(0, 80);
+    EXPECT_THAT(reply["error"]["message"].get<std::string>(), HasSubstr(c.message));
+    EXPECT_EQ(session.state(), before) << c.line.substr(0, 80);
+    EXPECT_EQ(session.history().records().size(), records);
+  }
+  EXPECT_FALSE(session.finished());
+}
+
+TEST(ServeSession, PredictsWithTheTwinAndReportsStateCheckpointAndShutdown) {
+  const TemporaryDatabase database;
+  ServeSession session = ServeSession::start(analytic_options("default"), database.get());
+  const json predicted =
+      call(session, {{"op", "predict"}, {"assembly", 4}, {"control", {0.0, 0.0, 0.0}}});
+  ASSERT_TRUE(predicted["ok"].get<bool>());
+  EXPECT_EQ(predicted["quality"].get<double>(),
+            session.twin().plant_quality(session.twin().assemblies()[4], VectorX::Zero(3)));
+  drive(session, 0, 2);
+  const json state = call(session, {{"op", "state"}});
+  EXPECT_EQ(state["observed"], 2);
+  EXPECT_EQ(state["controller"], "default");
+  EXPECT_EQ(state["locators"].size(), 3U);
+  EXPECT_EQ(state["covariance"].size(), 3U);
+  const json checkpoint = call(session, {{"op", "checkpoint"}});
+  EXPECT_EQ(checkpoint["bytes"].get<std::uintmax_t>(), fs::file_size(database.get()));
+  EXPECT_TRUE(call(session, {{"op", "shutdown"}})["ok"].get<bool>());
+  EXPECT_TRUE(session.finished());
+}
+
+TEST(ServeSession, RefusesToResumeAHistoryThatDoesNotReplay) {
+  const TemporaryDatabase database;
+  {
+    ServeSession session = ServeSession::start(analytic_options("w=1"), database.get());
+    drive(session, 0, 5);
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(database.get().c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(db, "UPDATE observations SET quality = quality + 1e-9 WHERE request_id = 3",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK);
+  sqlite3_close(db);
+  try {
+    (void)ServeSession::resume(database.get());
+    FAIL() << "resumed a tampered history";
+  } catch (const HistoryMismatchError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("request 3 replays to another estimate"));
+  }
+}
+
+TEST(ServeSession, RefusesInvalidOptionsBeforeCreatingTheDatabase) {
+  const TemporaryDatabase database;
+  ServeOptions options = analytic_options("active");
+  options.run = -1;
+  EXPECT_THROW((void)ServeSession::start(options, database.get()), InvalidArgumentError);
+  EXPECT_FALSE(fs::exists(database.get()));
+}
+
+}  // namespace
+}  // namespace twincal
