@@ -1,7 +1,9 @@
 # End-to-end test of the twincal CLI (ctest apps.cli_end_to_end): a tiny study, an interrupted
 # run resumed, a rerun that skips everything, another thread count, a conflicting config, the
-# summary, every --help, and a dry run of every ready-made sweep in apps/sweeps/. Results are compared without their wall-time columns.
-#   cmake -DTWINCAL=<twincal> -DWORK_DIR=<scratch> -DSWEEPS_DIR=<apps/sweeps> -P cli_end_to_end.cmake
+# summary, every --help, a dry run of every ready-made sweep in apps/sweeps/, and the external
+# case with 1 and 3 worker processes. Results are compared without their wall-time columns.
+#   cmake -DTWINCAL=<twincal> -DWORK_DIR=<scratch> -DSWEEPS_DIR=<apps/sweeps>
+#         -DEXTERNAL_DIR=<examples/external_twin> -DPYTHON=<python3> -P cli_end_to_end.cmake
 
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
@@ -105,3 +107,26 @@ foreach(sweep IN LISTS sweeps)
     message(FATAL_ERROR "dry run of ${sweep} printed:\n${output}")
   endif()
 endforeach()
+
+# 8. The external case: the minimal twin of examples/external_twin (a Python program) gives the
+# same episodes with 1 and 3 worker processes, and --twin-command overrides the config's.
+# 4 × 5 assemblies keep the u0 searches short.
+file(READ "${EXTERNAL_DIR}/config.json" external_config)
+string(JSON external_config SET "${external_config}" external_twin upper_parts 4)
+string(JSON external_config SET "${external_config}" external_twin lower_parts 5)
+file(WRITE "${WORK_DIR}/external.json" "${external_config}")
+set(external run --config "${WORK_DIR}/external.json" --runs 1 --assemblies 8
+    --controllers baseline,w=1,active --threads 1 --quiet
+    --twin-command "${PYTHON} ${EXTERNAL_DIR}/minimal_twin.py")
+twincal_ok(${external} --twin-workers 1 --out "${WORK_DIR}/external1")
+read_results("${WORK_DIR}/external1" external_one)
+twincal_ok(${external} --twin-workers 3 --out "${WORK_DIR}/external3")
+read_results("${WORK_DIR}/external3" external_three)
+if(NOT external_one_episodes EQUAL 3 OR NOT external_one STREQUAL external_three)
+  message(FATAL_ERROR "the external twin with 1 and 3 workers gives different results")
+endif()
+execute_process(COMMAND "${TWINCAL}" run --case external --out "${WORK_DIR}/external_bad"
+  --twin-workers 2 RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_QUIET)
+if(status EQUAL 0 OR NOT err MATCHES "--twin-workers: the config has no external_twin")
+  message(FATAL_ERROR "--twin-workers without an external_twin was not refused:\n${err}")
+endif()

@@ -53,6 +53,9 @@ constexpr const char* config_options_help =
   --controllers LIST     comma-separated: baseline, nominal, default, w=<0..1>, active,
                          per-component:w=<0..1>, or "paper"
                          (default paper: baseline, default, w=0, 0.1, ..., 1, active))
+  --twin-command "CMD"   the program of the external case (overrides external_twin.command
+                         of --config, which describes the twin: docs/models.md)
+  --twin-workers N       processes of the external twin (default 1; results do not depend on N)
 )";
 
 constexpr const char* execution_help =
@@ -93,6 +96,26 @@ std::vector<ControllerSpec> parse_controllers(const std::string& list) {
   return specs;
 }
 
+// --twin-command and --twin-workers: the program and the processes of the external twin of
+// every config (which must describe one: its locators and bounds come from the config).
+void apply_twin_options(Arguments& arguments, std::span<ExperimentConfig> configs) {
+  const auto twin_command = arguments.text("twin-command");
+  const auto twin_workers = arguments.integer("twin-workers");
+  if (!twin_command && !twin_workers) return;
+  const std::string option = twin_command ? "--twin-command" : "--twin-workers";
+  for (ExperimentConfig& config : configs) {
+    if (!config.external_twin) {
+      throw InvalidArgumentError(
+          option, fmt::format("{}: the config has no external_twin; rule: give --config "
+                              "FILE.json whose external_twin describes the twin (its locators "
+                              "and bounds; docs/models.md)",
+                              option));
+    }
+    if (twin_command) from_json(json{{"command", *twin_command}}, *config.external_twin);
+    if (twin_workers) config.external_twin->workers = *twin_workers;
+  }
+}
+
 // The base config from --config and the options shared by run, paper and scaling; controllers
 // are `default_controllers` unless the config file or --controllers names them.
 ExperimentConfig read_config(
@@ -119,6 +142,7 @@ ExperimentConfig read_config(
   }
   if (const auto v = arguments.integer("candidates")) config.candidates = *v;
   if (const auto v = arguments.text("controllers")) config.controllers = parse_controllers(*v);
+  apply_twin_options(arguments, std::span(&config, 1));
   if (const auto v = arguments.text("controller")) config.controllers = parse_controllers(*v);
   return config;
 }
@@ -199,7 +223,8 @@ int run_command(std::span<const std::string> args) {
 
 Runs one configuration: one twin case and locator set, its controllers, N runs.
 
-  --case NAME            body | door (the FEM twin) | analytic (default body)
+  --case NAME            body | door (the FEM twin) | analytic | external (a program:
+                         --config with external_twin, docs/models.md) (default body)
   --locators SET         A | B | C | ABC | all | names or indices joined by commas (default A)
   --name NAME            group name in the results (default <case>/<locators>)
 {}{})",
@@ -322,6 +347,8 @@ An axis is any config key (docs/cli.md), or "w", "controller", "dimension". Each
 group "<base>/<key>=<value> ..." tagged with its axis values.
 
   --config FILE.json     the sweep (required)
+  --twin-command "CMD"   the program of an external twin (the base's external_twin)
+  --twin-workers N       its processes (default 1; results do not depend on N)
   --out DIR              results directory (default results/sweep; rerunning resumes it)
   --threads N            worker threads (default: all cores)
   --quiet                no progress line
@@ -334,8 +361,13 @@ group "<base>/<key>=<value> ..." tagged with its axis values.
   const fs::path out = arguments.text("out").value_or("results/sweep");
   const RunOptions options = read_run_options(arguments);
   const bool dry_run = arguments.flag("dry-run");
+  std::vector<ExperimentGroup> groups = expand_sweep(read_json_file(*path));
+  std::vector<ExperimentConfig> configs;
+  for (const ExperimentGroup& group : groups) configs.push_back(group.config);
+  apply_twin_options(arguments, configs);
+  for (std::size_t g = 0; g < groups.size(); ++g) groups[g].config = configs[g];
   arguments.require_all_read();
-  return run_study(expand_sweep(read_json_file(*path)), out, options, dry_run);
+  return run_study(groups, out, options, dry_run);
 }
 
 int summary_command(std::span<const std::string> args) {
@@ -515,7 +547,7 @@ proposal and observation is in the database before its reply is sent; after a cr
                          on stderr)
   --durability MODE      full (default: each record survives a power cut) | normal
                          (survives a killed process; no fsync per record)
-  --case NAME            body | door | analytic (default body)
+  --case NAME            body | door | analytic | external (default body)
   --locators SET         A | B | C | ABC | all | names or indices joined by commas (default A)
   --controller LABEL     the controller (default active): any label of --controllers
   --run R                build the controller with the seeds of run R of `twincal run` (default 0)

@@ -14,8 +14,10 @@ namespace {
 template <typename Enum, std::size_t Size>
 using NameTable = std::array<std::pair<Enum, std::string_view>, Size>;
 
-constexpr NameTable<TwinCase, 3> twin_case_names{
-    {{TwinCase::body, "body"}, {TwinCase::door, "door"}, {TwinCase::analytic, "analytic"}}};
+constexpr NameTable<TwinCase, 4> twin_case_names{{{TwinCase::body, "body"},
+                                                  {TwinCase::door, "door"},
+                                                  {TwinCase::analytic, "analytic"},
+                                                  {TwinCase::external, "external"}}};
 constexpr NameTable<FilterScheme, 5> filter_scheme_names{
     {{FilterScheme::merwe, "merwe"},
      {FilterScheme::julier, "julier"},

@@ -62,6 +62,15 @@ std::optional<std::string> ExperimentConfig::validate() const {
         "holds and factors a d x d curvature)",
         analytic_dimension, max_analytic_dimension);
   }
+  if ((twin_case == TwinCase::external) != external_twin.has_value()) {
+    return fmt::format(
+        "case is \"{}\" and external_twin is {}; rule: external_twin is given "
+        "with the external case and only with it",
+        to_string(twin_case), external_twin ? "set" : "unset");
+  }
+  if (external_twin) {
+    if (auto problem = external_twin->validate()) return problem;
+  }
   if (locators.empty()) return "locators is empty; rule: must name >= 1 locator";
   if (controllers.empty()) return "controllers is empty; rule: must name >= 1 controller";
   for (std::size_t i = 0; i < controllers.size(); ++i) {
@@ -145,6 +154,7 @@ const std::map<std::string, Field, std::less<>>& fields() {
     t["case"] = choice(&ExperimentConfig::twin_case, "case", &parse_twin_case);
     t["twin_seed"] = plain(&ExperimentConfig::twin_seed, "twin_seed");
     t["analytic_dimension"] = plain(&ExperimentConfig::analytic_dimension, "analytic_dimension");
+    t["external_twin"] = optional(&ExperimentConfig::external_twin, "external_twin");
     t["locators"] = {[](json& j, const ExperimentConfig& c) { j["locators"] = c.locators; },
                      [](const json& v, ExperimentConfig& c) {
                        // Also a JSON list of names or indices, joined into the comma-separated
@@ -239,6 +249,11 @@ nlohmann::json episode_defining_json(const ExperimentConfig& config) {
   json.erase("name");
   json.erase("runs");
   json.erase("controllers");
+  // The pool's size and patience do not change what an external twin answers.
+  if (config.external_twin) {
+    json["external_twin"].erase("workers");
+    json["external_twin"].erase("timeout_ms");
+  }
   // An unset σz² and its case default give the same episodes.
   json["measurement_variance"] = config.filter_measurement_variance();
   return json;

@@ -9,9 +9,12 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/experiments/external_case_twin.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
 
 // The FEM twin joins the build in models/; until its header exists the body and door cases
@@ -51,8 +54,21 @@ AnyTwin analytic_twin(const ExperimentConfig& config) {
 
 bool sheet_metal_cases_available() noexcept { return TWINCAL_HAS_SHEET_METAL_TWIN != 0; }
 
+// The program's twin; its first three locators are A, B, C.
+AnyTwin external_twin(const ExperimentConfig& config) {
+  require_valid("config", config);
+  ExternalCaseTwin twin(*config.external_twin);
+  std::vector<AssemblyId> assemblies = twin.assemblies();
+  std::vector<Index> significant;
+  for (Index i = 0; i < std::min<Index>(3, twin.control_dimension()); ++i) {
+    significant.push_back(i);
+  }
+  return {std::move(twin), std::move(assemblies), std::move(significant)};
+}
+
 AnyTwin make_twin(const ExperimentConfig& config) {
   if (config.twin_case == TwinCase::analytic) return analytic_twin(config);
+  if (config.twin_case == TwinCase::external) return external_twin(config);
 #if TWINCAL_HAS_SHEET_METAL_TWIN
   SheetMetalTwin twin = SheetMetalTwin::make(
       config.twin_case == TwinCase::body ? SheetMetalCase::body : SheetMetalCase::door,
@@ -123,14 +139,16 @@ CaseTwin make_case_twin(const ExperimentConfig& config) {
 }
 
 std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups) {
-  std::map<std::tuple<TwinCase, std::uint64_t, Index>, AnyTwin> full_twins;
+  std::map<std::tuple<TwinCase, std::uint64_t, Index, std::string>, AnyTwin> full_twins;
   std::vector<CaseTwin> twins;
   twins.reserve(groups.size());
   for (const ExperimentGroup& group : groups) {
     const ExperimentConfig& config = group.config;
-    const auto key =
-        std::tuple(config.twin_case, config.twin_seed,
-                   config.twin_case == TwinCase::analytic ? config.analytic_dimension : Index{0});
+    // An external twin is its program: groups of different programs get their own pools.
+    const auto key = std::tuple(
+        config.twin_case, config.twin_seed,
+        config.twin_case == TwinCase::analytic ? config.analytic_dimension : Index{0},
+        config.external_twin ? nlohmann::json(*config.external_twin).dump() : std::string());
     auto full = full_twins.find(key);
     if (full == full_twins.end()) full = full_twins.emplace(key, make_twin(config)).first;
     twins.emplace_back(full->second, resolve_locators(full->second, config.locators));

@@ -79,6 +79,11 @@ class ExternalTwinPool {
     return workers_.front()->upper_bounds();
   }
   [[nodiscard]] const ExternalTwinPoolOptions& options() const noexcept { return options_; }
+  /// Worker `w` itself (0 ≤ w < workers()), for owners that keep one worker busy per thread
+  /// (e.g. searching one assembly's optimum per worker); no retry on this path.
+  [[nodiscard]] const ExternalTwin& worker(Index w) const {
+    return *workers_.at(static_cast<std::size_t>(w));
+  }
 
   /// Processes started over all workers (workers() after construction; +1 per restart).
   [[nodiscard]] int starts() const;

@@ -11,7 +11,7 @@ namespace twincal {
 
 /// The twin an experiment runs on: the paper's car body (Sec. 3.1) or car door (Sec. 3.2) on
 /// the open FEM twin, or the analytic RMS-quadratic twin of any dimension.
-enum class TwinCase { body, door, analytic };
+enum class TwinCase { body, door, analytic, external };
 
 /// The sigma-point scheme of the filter (the paper's UKF is merwe).
 enum class FilterScheme { merwe, julier, cubature, fifth_degree, simplex };

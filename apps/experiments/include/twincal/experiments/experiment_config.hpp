@@ -16,6 +16,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/controller_spec.hpp"
 #include "twincal/experiments/experiment_choices.hpp"
+#include "twincal/experiments/external_twin_settings.hpp"
 
 namespace twincal {
 
@@ -34,6 +35,8 @@ struct ExperimentConfig {
   TwinCase twin_case = TwinCase::body;
   /// Seed of the twin itself (parts, fields); the same for every run.
   std::uint64_t twin_seed = 2023;
+  /// The program of the external case (required by it, refused by the others).
+  std::optional<ExternalTwinSettings> external_twin{};
   /// Number of locators of the analytic twin (ignored by body and door).
   Index analytic_dimension = 3;
   /// Controlled (and drifting) locators: "A", "B", "C" (the twin's significant locators),

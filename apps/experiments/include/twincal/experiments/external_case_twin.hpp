@@ -1,0 +1,77 @@
+#pragma once
+/// @file
+/// `ExternalCaseTwin`: the `external` twin case (external_twin_settings.hpp) as a twin over
+/// AssemblyId with a known optimum, so that every controller and the whole episode protocol run
+/// on a program's twin as on the built-in ones. Qualities go through an ExternalTwinPool (a batch
+/// spread over the workers, failures retried once); u0(x) and z*(x) of every assembly are
+/// searched once, at construction, with NLopt from the centre of the bounds — one assembly per
+/// worker at a time, so N workers search N assemblies at once.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/eigen.hpp"
+#include "twincal/experiments/external_twin_settings.hpp"
+#include "twincal/models/assembly_id.hpp"
+#include "twincal/models/external_twin_pool.hpp"
+#include "twincal/models/twin.hpp"
+
+namespace twincal {
+
+class ExternalCaseTwin {
+ public:
+  using Assembly = AssemblyId;
+
+  /// Starts the workers and searches every assembly's optimum.
+  /// @throws InvalidArgumentError for invalid settings; ExternalTwinError when the program fails
+  ///         (after the pool's retry), naming the assembly whose search failed.
+  explicit ExternalCaseTwin(const ExternalTwinSettings& settings);
+
+  [[nodiscard]] Index control_dimension() const noexcept { return pool_.control_dimension(); }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
+    return pool_.locator_names();
+  }
+  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return pool_.lower_bounds(); }
+  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return pool_.upper_bounds(); }
+  [[nodiscard]] double quality(const AssemblyId& assembly,
+                               const Eigen::Ref<const VectorX>& control) const {
+    return pool_.quality(assembly_json(assembly), control);
+  }
+  void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const {
+    pool_.quality_batch(assembly_json(assembly), controls, out);
+  }
+  /// u0(x) as searched at construction.
+  [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
+    return optima_.col(position(assembly));
+  }
+  [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
+    return optimal_qualities_(position(assembly));
+  }
+  /// Every (upper, lower) pair, upper-major.
+  [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
+  /// Evaluations the optimum searches took, over all assemblies.
+  [[nodiscard]] std::uint64_t search_evaluations() const noexcept { return search_evaluations_; }
+  [[nodiscard]] const ExternalTwinPool& pool() const noexcept { return pool_; }
+
+  /// What the program receives as the assembly: {"upper": i, "lower": j}.
+  [[nodiscard]] static nlohmann::json assembly_json(const AssemblyId& assembly);
+
+ private:
+  [[nodiscard]] Index position(const AssemblyId& assembly) const;
+
+  ExternalTwinPool pool_;
+  Index lower_parts_;
+  std::vector<AssemblyId> assemblies_;
+  MatrixX optima_;             // d × assemblies
+  VectorX optimal_qualities_;  // assemblies
+  std::uint64_t search_evaluations_ = 0;
+};
+
+static_assert(TwinWithOptimum<ExternalCaseTwin>);
+
+}  // namespace twincal

@@ -1,0 +1,47 @@
+#pragma once
+/// @file
+/// `ExternalTwinSettings`: the `external` twin case of a config — a twin that is a program
+/// speaking models' external-twin protocol (external_twin.hpp), run as a pool of `workers`
+/// processes (external_twin_pool.hpp). Its assemblies are the pairs of upper_parts × lower_parts
+/// parts, sent to the program as {"upper": i, "lower": j}; u0(x) and z*(x) are searched with
+/// NLopt from the centre of the bounds (external_case_twin.hpp). JSON (config key
+/// `external_twin`, unknown keys rejected):
+///   {"command": ["python3", "twin.py"], "locators": ["A", "B", "C"],
+///    "lower_bounds": [-1, -1, -1], "upper_bounds": [1, 1, 1],
+///    "upper_parts": 10, "lower_parts": 10, "workers": 4, "timeout_ms": 10000,
+///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000}
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "twincal/core/eigen.hpp"
+
+namespace twincal {
+
+struct ExternalTwinSettings {
+  std::vector<std::string> command;   ///< argv; command[0] is looked up in PATH if bare
+  std::vector<std::string> locators;  ///< the twin's d locator names, in its control order
+  std::vector<double> lower_bounds;   ///< d finite bounds of the controls
+  std::vector<double> upper_bounds;   ///< d finite bounds, each > its lower bound
+  Index upper_parts = 10;             ///< assemblies: upper_parts × lower_parts pairs
+  Index lower_parts = 10;
+  Index workers = 1;         ///< processes of the pool; does not change any result
+  Index timeout_ms = 10000;  ///< longest wait for one reply
+  /// Budgets of the u0(x) search per assembly (NLopt's DIRECT-L, then BOBYQA; controllers'
+  /// nlopt_optimizer.hpp): every evaluation is one request, so a slow twin wants them small.
+  Index optimum_global_evaluations = 2000;
+  Index optimum_local_evaluations = 1000;
+
+  static constexpr Index max_parts = 10000;
+
+  [[nodiscard]] std::optional<std::string> validate() const;
+};
+
+void to_json(nlohmann::json& json, const ExternalTwinSettings& settings);
+/// @throws InvalidArgumentError naming an unknown key or a value of the wrong type.
+void from_json(const nlohmann::json& json, ExternalTwinSettings& settings);
+
+}  // namespace twincal

@@ -1,0 +1,122 @@
+#include "twincal/experiments/external_case_twin.hpp"
+
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "twincal/core/error.hpp"
+#include "twincal/experiments/experiment_config.hpp"
+
+namespace twincal {
+namespace {
+
+using ::testing::HasSubstr;
+
+// examples/external_twin/minimal_twin.py: Q = sqrt(q0 + Σ w_i (u_i − a_i)²), so u0 = a and
+// z* = sqrt(q0), both known in closed form from the part indices.
+ExternalTwinSettings minimal_twin(Index workers) {
+  ExternalTwinSettings settings;
+  settings.command = {"python3",
+                      TWINCAL_TEST_DATA_DIR "/../../examples/external_twin/minimal_twin.py"};
+  settings.locators = {"A", "B", "C"};
+  settings.lower_bounds = {-1.0, -1.0, -1.0};
+  settings.upper_bounds = {1.0, 1.0, 1.0};
+  settings.upper_parts = 2;
+  settings.lower_parts = 3;
+  settings.workers = workers;
+  settings.optimum_global_evaluations = 300;
+  settings.optimum_local_evaluations = 300;
+  return settings;
+}
+
+TEST(ExternalCaseTwin, FindsEveryAssemblysOptimumWithTheSameResultForAnyNumberOfWorkers) {
+  const ExternalCaseTwin one(minimal_twin(1));
+  const ExternalCaseTwin three(minimal_twin(3));
+  ASSERT_EQ(one.assemblies().size(), 6U);
+  EXPECT_EQ(one.locator_names(), (std::vector<std::string>{"A", "B", "C"}));
+  for (const AssemblyId& x : one.assemblies()) {
+    const double q0 = 0.04 + 0.01 * static_cast<double>((3 * x.upper + 5 * x.lower) % 7);
+    EXPECT_NEAR(one.optimal_quality(x), std::sqrt(q0), 1e-9) << fmt::format("{}", x);
+    for (Index i = 0; i < 3; ++i) {
+      const double best =
+          0.2 * std::sin(1.7 * static_cast<double>(x.upper) + 0.9 * static_cast<double>(x.lower) +
+                         static_cast<double>(i));
+      EXPECT_NEAR(one.optimum(x)(i), best, 1e-4) << fmt::format("{}", x);
+    }
+    EXPECT_EQ(one.optimum(x), three.optimum(x));
+    EXPECT_EQ(one.optimal_quality(x), three.optimal_quality(x));
+  }
+  EXPECT_EQ(one.search_evaluations(), three.search_evaluations());
+  EXPECT_GT(one.search_evaluations(), 6U * 300U);
+  // Batches go through the pool, in order.
+  MatrixX controls(3, 4);
+  controls.setZero();
+  controls.col(1) = one.optimum({1, 2});
+  VectorX out(4);
+  three.quality_batch({1, 2}, controls, out);
+  EXPECT_DOUBLE_EQ(out(1), three.optimal_quality({1, 2}));
+  EXPECT_EQ(out(0), one.quality({1, 2}, controls.col(0)));
+}
+
+TEST(ExternalCaseTwin, RefusesAnUnknownAssemblyAndInvalidSettings) {
+  const ExternalCaseTwin twin(minimal_twin(1));
+  try {
+    (void)twin.optimum({2, 0});
+    FAIL() << "an unknown assembly was accepted";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("assembly: (upper 2, lower 0) is unknown; rule: parts "
+                                        "within 2 × 3"));
+  }
+  ExternalTwinSettings bad = minimal_twin(1);
+  bad.upper_bounds = {1.0, 1.0};
+  EXPECT_THAT(bad.validate().value_or(""),
+              HasSubstr("lower_bounds and upper_bounds have 3 and 2 entries; rule: one per "
+                        "locator (3)"));
+  bad = minimal_twin(1);
+  bad.lower_bounds[1] = 1.0;
+  EXPECT_THAT(bad.validate().value_or(""), HasSubstr("bounds of B are [1, 1]; rule: finite"));
+  bad = minimal_twin(0);
+  EXPECT_THAT(bad.validate().value_or(""),
+              HasSubstr("external_twin.workers is 0; rule: must lie in [1, 256]"));
+  EXPECT_THROW(ExternalCaseTwin{bad}, InvalidArgumentError);
+}
+
+TEST(ExternalTwinSettings, GoWithTheExternalCaseAndOnlyWithIt) {
+  ExperimentConfig config;
+  config.twin_case = TwinCase::external;
+  EXPECT_THAT(config.validate().value_or(""),
+              HasSubstr("case is \"external\" and external_twin is unset; rule: external_twin is "
+                        "given with the external case and only with it"));
+  config.external_twin = minimal_twin(2);
+  EXPECT_EQ(config.validate(), std::nullopt);
+  config.twin_case = TwinCase::body;
+  EXPECT_THAT(config.validate().value_or(""), HasSubstr("external_twin is set"));
+  // The pool's size does not define the episodes, the program does.
+  config.twin_case = TwinCase::external;
+  ExperimentConfig more_workers = config;
+  more_workers.external_twin->workers = 7;
+  EXPECT_EQ(episode_defining_json(config), episode_defining_json(more_workers));
+  more_workers.external_twin->command.back() = "other_twin.py";
+  EXPECT_NE(episode_defining_json(config), episode_defining_json(more_workers));
+}
+
+TEST(ExternalTwinSettings, RoundTripsThroughJsonAndRefusesUnknownKeys) {
+  const ExternalTwinSettings settings = minimal_twin(4);
+  const nlohmann::json json = settings;
+  const auto back = json.get<ExternalTwinSettings>();
+  EXPECT_EQ(nlohmann::json(back), json);
+  ExternalTwinSettings read;
+  from_json(nlohmann::json{{"command", "  python3  twin.py --fast "}}, read);
+  EXPECT_EQ(read.command, (std::vector<std::string>{"python3", "twin.py", "--fast"}));
+  try {
+    from_json(nlohmann::json{{"comand", "x"}}, read);
+    FAIL() << "an unknown key was accepted";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("key \"external_twin.comand\" is unknown"));
+  }
+  EXPECT_THROW(from_json(nlohmann::json{{"workers", "four"}}, read), InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace twincal
