@@ -160,6 +160,9 @@ TEST(ServeSession, AnswersEveryBadRequestWithAnErrorAndChangesNothing) {
        "request_id: is missing or not an integer"},
       {R"({"op": "predict", "assembly": 5, "control": [0, 0]})", "control",
        "control: is [0,0]; rule: an array of 3 numbers"},
+      // Not UTF-8: quoted back as U+FFFD, the reply still valid JSON.
+      {"{\"op\": \"\xff\"}", "line", "line: is not JSON"},
+      {"{\"op\": \"state\", \"\xc3\": 1", "line", "line: is not JSON"},
       {std::string(ServeSession::max_line_bytes + 1, ' '), "line",
        fmt::format("line: has {} bytes; rule: at most {} bytes", ServeSession::max_line_bytes + 1,
                    ServeSession::max_line_bytes)},

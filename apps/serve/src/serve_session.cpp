@@ -32,6 +32,12 @@ json error_reply(const json& op, const std::string& field, const std::string& me
   return {{"ok", false}, {"op", op}, {"error", {{"field", field}, {"message", message}}}};
 }
 
+// A reply line. Bytes that are not UTF-8 (a request's, quoted in a message) become U+FFFD
+// instead of failing the reply.
+std::string line_of(const json& reply) {
+  return reply.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 // Refuses keys a request of `op` does not take, naming the first one.
 void require_keys(const json& request, std::string_view op,
                   std::initializer_list<std::string_view> allowed) {
@@ -105,10 +111,9 @@ ServeSession ServeSession::resume(const std::filesystem::path& database, Durabil
 }
 
 std::string ServeSession::oversized_reply(std::size_t bytes) {
-  return error_reply(nullptr, "line",
-                     fmt::format("line: has {} bytes; rule: at most {} bytes per request", bytes,
-                                 max_line_bytes))
-      .dump();
+  return line_of(error_reply(nullptr, "line",
+                             fmt::format("line: has {} bytes; rule: at most {} bytes per request",
+                                         bytes, max_line_bytes)));
 }
 
 std::string ServeSession::handle(std::string_view line) {
@@ -117,50 +122,54 @@ std::string ServeSession::handle(std::string_view line) {
   try {
     request = json::parse(line);
   } catch (const json::parse_error& error) {
-    return error_reply(nullptr, "line", fmt::format("line: is not JSON ({})", error.what())).dump();
+    return line_of(
+        error_reply(nullptr, "line", fmt::format("line: is not JSON ({})", error.what())));
   }
   if (!request.is_object()) {
-    return error_reply(
-               nullptr, "line",
-               fmt::format("line: is a JSON {}; rule: a request is an object", request.type_name()))
-        .dump();
+    return line_of(error_reply(
+        nullptr, "line",
+        fmt::format("line: is a JSON {}; rule: a request is an object", request.type_name())));
   }
   const auto op_it = request.find("op");
   if (op_it == request.end() || !op_it->is_string()) {
-    return error_reply(nullptr, "op",
-                       fmt::format("op: is missing or not a string; rule: one of {}", operations))
-        .dump();
+    return line_of(error_reply(
+        nullptr, "op", fmt::format("op: is missing or not a string; rule: one of {}", operations)));
   }
   const std::string op = op_it->get<std::string>();
   try {
-    if (op == "propose") return propose(request).dump();
-    if (op == "observe") return observe(request).dump();
-    if (op == "predict") return predict(request).dump();
-    if (op == "state") {
-      require_keys(request, op, {});
-      json reply = state();
-      reply["ok"] = true;
-      reply["op"] = op;
-      return reply.dump();
-    }
-    if (op == "checkpoint") {
-      require_keys(request, op, {});
-      const std::uintmax_t bytes = store_.checkpoint();
-      return json{{"ok", true}, {"op", op}, {"database", store_.path().string()}, {"bytes", bytes}}
-          .dump();
-    }
-    if (op == "shutdown") {
-      require_keys(request, op, {});
-      finished_ = true;
-      return json{{"ok", true}, {"op", op}, {"observed", observed_}}.dump();
-    }
-    return error_reply(op, "op", fmt::format("op: is \"{}\"; rule: one of {}", op, operations))
-        .dump();
+    return line_of(dispatch(op, request));
   } catch (const HistoryStoreError&) {
-    throw;
+    throw;  // the reply would promise what is not stored: the session must stop
   } catch (const Error& error) {
-    return error_reply(op, error.argument(), error.what()).dump();
+    return line_of(error_reply(op, error.argument(), error.what()));
+  } catch (const std::exception& error) {
+    // Not one of twincal's typed errors (a library's own): still this request's failure only.
+    return line_of(error_reply(op, "op", fmt::format("{}: failed ({})", op, error.what())));
   }
+}
+
+json ServeSession::dispatch(const std::string& op, const json& request) {
+  if (op == "propose") return propose(request);
+  if (op == "observe") return observe(request);
+  if (op == "predict") return predict(request);
+  if (op == "state") {
+    require_keys(request, op, {});
+    json reply = state();
+    reply["ok"] = true;
+    reply["op"] = op;
+    return reply;
+  }
+  if (op == "checkpoint") {
+    require_keys(request, op, {});
+    const std::uintmax_t bytes = store_.checkpoint();
+    return {{"ok", true}, {"op", op}, {"database", store_.path().string()}, {"bytes", bytes}};
+  }
+  if (op == "shutdown") {
+    require_keys(request, op, {});
+    finished_ = true;
+    return {{"ok", true}, {"op", op}, {"observed", observed_}};
+  }
+  throw InvalidArgumentError("op", fmt::format("op: is \"{}\"; rule: one of {}", op, operations));
 }
 
 AssemblyId ServeSession::parse_assembly(const json& request) const {

@@ -100,6 +100,8 @@ class ServeSession {
   // Builds the controller over `twin`, which stays where it is: the controller refers to it.
   ServeSession(ServeOptions options, std::unique_ptr<const CaseTwin> twin, HistoryStore store);
 
+  // The reply to a request of `op` (a known or unknown operation). @throws Error.
+  [[nodiscard]] nlohmann::json dispatch(const std::string& op, const nlohmann::json& request);
   [[nodiscard]] nlohmann::json propose(const nlohmann::json& request);
   [[nodiscard]] nlohmann::json observe(const nlohmann::json& request);
   [[nodiscard]] nlohmann::json predict(const nlohmann::json& request) const;
