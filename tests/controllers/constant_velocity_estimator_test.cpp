@@ -124,6 +124,8 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
   inverted.change_lag = 2;
   EXPECT_EQ(inverted.validate(),
             "change_window and change_lag are 3 and 2; rule: 1 <= change_window <= change_lag");
+  EXPECT_EQ(ConstantVelocityOptions{.initial_position_fraction = 0.6}.validate(),
+            "initial_position_fraction is 0.6; rule: finite, > 0 and <= position_fraction = 0.5");
   EXPECT_EQ(ConstantVelocityOptions{.max_history = 4}.validate(),
             "max_history is 4; rule: must be > change_lag = 6");
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d(2.0, 0.0, 2.0), 1e-4),

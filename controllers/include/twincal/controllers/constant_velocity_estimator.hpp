@@ -162,11 +162,12 @@ class ConstantVelocityEstimator {
     fit(time);
   }
 
-  /// reset() with δu ~ N(position, (position_fraction · width)²) per locator.
+  /// reset() with δu ~ N(position, (initial_position_fraction · width)²) per locator: the start
+  /// of an episode.
   void reset(Index time, const OffsetVector& position) {
     const Index d = dimension();
     OffsetMatrix covariance = OffsetMatrix::Zero(d, d);
-    covariance.diagonal() = (options_.position_fraction * width_).array().square().matrix();
+    covariance.diagonal() = (options_.initial_position_fraction * width_).array().square().matrix();
     reset(time, position, covariance);
   }
 
