@@ -1,9 +1,11 @@
 #include "twincal/experiments/case_twin.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/experiments/scanned_assembly.hpp"
 #include "twincal/models/locator_subset.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
 
@@ -63,6 +65,18 @@ TEST(CaseTwin, RejectsBadLocatorsAndUnknownAssemblies) {
   const CaseTwin twin(case_twin_erased(full), {2});
   EXPECT_THROW((void)twin.optimal_quality({10, 0}), InvalidArgumentError);
   EXPECT_THROW((void)twin.optimum({0, -1}), InvalidArgumentError);
+}
+
+TEST(CaseTwin, RefusesScannedPartsWhenItsTwinTakesNone) {
+  const RmsQuadraticTwin full = case_twin_reference(3);
+  CaseTwin twin(case_twin_erased(full), {0, 2});
+  try {
+    (void)twin.add_scanned(nlohmann::json{{"upper", {1.0}}});
+    FAIL() << "scanned parts were accepted by a twin that takes none";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_EQ(error.argument(), "parts");
+  }
+  EXPECT_THROW((void)twin.optimum(scanned_assembly(0)), InvalidArgumentError);
 }
 
 }  // namespace

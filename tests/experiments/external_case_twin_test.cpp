@@ -59,6 +59,41 @@ TEST(ExternalCaseTwin, FindsEveryAssemblysOptimumWithTheSameResultForAnyNumberOf
   EXPECT_EQ(out(0), one.quality({1, 2}, controls.col(0)));
 }
 
+TEST(ExternalCaseTwin, RegistersScannedPartsOnceAndSearchesTheirOptimum) {
+  ExternalCaseTwin twin(minimal_twin(2));
+  const std::uint64_t searched = twin.search_evaluations();
+  const nlohmann::json parts = {{"upper", nlohmann::json::array({0.25, 0.5})},
+                                {"lower", nlohmann::json::array({1.5})}};
+  const AssemblyId x = twin.add_scanned(parts);
+  EXPECT_EQ(x, scanned_assembly(0));
+  EXPECT_EQ(scanned_index(x), 0);
+  EXPECT_EQ(twin.assembly_json(x), (nlohmann::json{{"parts", parts}}));
+  // The minimal twin's closed form with U = 0.75, L = 1.5: q0 = 0.04 + 0.01·(9.75 mod 7).
+  EXPECT_NEAR(twin.optimal_quality(x), std::sqrt(0.04 + 0.01 * 2.75), 1e-9);
+  for (Index i = 0; i < 3; ++i) {
+    EXPECT_NEAR(twin.optimum(x)(i), 0.2 * std::sin(1.7 * 0.75 + 0.9 * 1.5 + static_cast<double>(i)),
+                1e-4);
+  }
+  const std::uint64_t after_one = twin.search_evaluations();
+  EXPECT_GT(after_one, searched);
+  // The same parts again: the same id, no new search; other parts: the next id.
+  EXPECT_EQ(twin.add_scanned(parts), x);
+  EXPECT_EQ(twin.search_evaluations(), after_one);
+  EXPECT_EQ(twin.add_scanned(nlohmann::json{{"upper", nlohmann::json::array({0.0})},
+                                            {"lower", nlohmann::json::array({0.0})}}),
+            scanned_assembly(1));
+  // Parts the program cannot evaluate: a typed failure, and nothing registered.
+  EXPECT_THROW((void)twin.add_scanned(nlohmann::json{{"upper", "scan.csv"}}), ExternalTwinError);
+  EXPECT_EQ(twin.scanned_count(), 2);
+  try {
+    (void)twin.optimum(scanned_assembly(2));
+    FAIL() << "an unregistered scanned assembly was accepted";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("assembly: scanned assembly 2 is unknown; rule: 2 "
+                                        "scanned assemblies are registered"));
+  }
+}
+
 TEST(ExternalCaseTwin, RefusesAnUnknownAssemblyAndInvalidSettings) {
   const ExternalCaseTwin twin(minimal_twin(1));
   try {

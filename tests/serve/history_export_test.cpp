@@ -42,7 +42,8 @@ TEST(HistoryExport, WritesOneRowPerRequestWithEmptyFieldsWhileAwaitingTheObserva
   const std::vector<std::string> lines = csv_lines(session.history());
   ASSERT_EQ(lines.size(), 3U);
   EXPECT_EQ(lines[0],
-            "request_id,upper,lower,proposed_at,observed_at,quality,optimal_quality,control_A,"
+            "request_id,upper,lower,assembly,proposed_at,observed_at,quality,optimal_quality,"
+            "control_A,"
             "control_B,estimate_A,estimate_B,sd_A,sd_B");
   const json state = session.state();
   const std::vector<std::string> row = [&] {
@@ -51,14 +52,15 @@ TEST(HistoryExport, WritesOneRowPerRequestWithEmptyFieldsWhileAwaitingTheObserva
     for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
     return fields;
   }();
-  ASSERT_EQ(row.size(), 13U);
+  ASSERT_EQ(row.size(), 14U);
   EXPECT_EQ(row[0], "1");
   EXPECT_EQ(json::array({std::stoll(row[1]), std::stoll(row[2])}), first["assembly"]);
-  EXPECT_EQ(row[5], "0.5");
-  EXPECT_EQ(std::stod(row[6]), first["report"]["optimal_quality"].get<double>());
-  EXPECT_EQ(std::stod(row[7]), first["control"][0].get<double>());
-  EXPECT_EQ(std::stod(row[9]), state["estimate"][0].get<double>());
-  EXPECT_GT(std::stod(row[11]), 0.0);
+  EXPECT_EQ(row[3], "");
+  EXPECT_EQ(row[6], "0.5");
+  EXPECT_EQ(std::stod(row[7]), first["report"]["optimal_quality"].get<double>());
+  EXPECT_EQ(std::stod(row[8]), first["control"][0].get<double>());
+  EXPECT_EQ(std::stod(row[10]), state["estimate"][0].get<double>());
+  EXPECT_GT(std::stod(row[12]), 0.0);
   // Request 2 awaits its observation: observed_at, quality, estimates and sds are empty.
   EXPECT_THAT(lines[2], ::testing::StartsWith("2,"));
   EXPECT_THAT(lines[2], ::testing::EndsWith(",,,,"));

@@ -2,7 +2,9 @@
 
 #include <sqlite3.h>
 
+#include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,7 @@
 #include "serve_testing.hpp"
 
 #include "twincal/experiments/episode_runner.hpp"
+#include "twincal/serve/history_export.hpp"
 
 namespace twincal {
 namespace {
@@ -145,7 +148,12 @@ TEST(ServeSession, AnswersEveryBadRequestWithAnErrorAndChangesNothing) {
        "assembly: is [99, 99]; rule: must be one of the twin's 100 assemblies"},
       {R"({"op": "propose", "assembly": "x"})", "assembly", "assembly: is \"x\"; rule: an index"},
       {R"({"op": "propose", "assembly": 5, "parts": {}})", "parts",
-       "parts: is not a field of propose"},
+       "parts: this twin's assemblies are its own part indices; rule: only a twin that takes "
+       "scanned parts (the external case) accepts them"},
+      {R"({"op": "propose", "assembly": "s-1", "parts": null})", "parts",
+       "parts: is null; rule: the scanned parts"},
+      {R"({"op": "propose", "assembly": 5, "color": "red"})", "color",
+       "color: is not a field of propose; rule: propose takes op, assembly, parts"},
       {fmt::format(R"({{"op": "observe", "request_id": {}, "quality": null}})", id), "quality",
        "quality: is null; rule: must be a finite number"},
       {fmt::format(R"({{"op": "observe", "request_id": {}, "quality": "nan"}})", id), "quality",
@@ -196,6 +204,93 @@ TEST(ServeSession, PredictsWithTheTwinAndReportsStateCheckpointAndShutdown) {
   EXPECT_EQ(checkpoint["bytes"].get<std::uintmax_t>(), fs::file_size(database.get()));
   EXPECT_TRUE(call(session, {{"op", "shutdown"}})["ok"].get<bool>());
   EXPECT_TRUE(session.finished());
+}
+
+// A cell that sends the scanned parts of each assembly: the external case's minimal twin
+// (examples/external_twin) computes its quality from them; u0 is searched per new assembly.
+ServeOptions scanned_parts_options() {
+  ServeOptions options;
+  options.config.twin_case = TwinCase::external;
+  ExternalTwinSettings twin;
+  twin.command = {"python3", TWINCAL_TEST_DATA_DIR "/../../examples/external_twin/minimal_twin.py"};
+  twin.locators = {"A", "B", "C"};
+  twin.lower_bounds = {-1.0, -1.0, -1.0};
+  twin.upper_bounds = {1.0, 1.0, 1.0};
+  twin.upper_parts = 1;  // the twin's own assemblies are not used here
+  twin.lower_parts = 1;
+  twin.optimum_global_evaluations = 200;
+  twin.optimum_local_evaluations = 200;
+  options.config.external_twin = twin;
+  options.config.locators = "all";
+  options.controller = ControllerSpec::parse("active");
+  options.durability = Durability::normal;
+  return options;
+}
+
+json scanned_parts(int t) {
+  return {{"upper", json::array({0.1 * (t % 5), 0.3})}, {"lower", json::array({0.05 * (t % 3)})}};
+}
+
+// Assemblies [from, to) of a cell that sends parts; the plant is the twin shifted by δu*.
+std::vector<json> drive_scanned(ServeSession& session, int from, int to) {
+  std::vector<json> controls;
+  for (int t = from; t < to; ++t) {
+    const json proposal = call(session, {{"op", "propose"},
+                                         {"assembly", fmt::format("serial-{}", t)},
+                                         {"parts", scanned_parts(t)}});
+    EXPECT_TRUE(proposal["ok"].get<bool>()) << proposal.dump();
+    EXPECT_EQ(proposal["assembly"], fmt::format("serial-{}", t));
+    json shifted = proposal["control"];
+    for (std::size_t i = 0; i < 3; ++i) shifted[i] = shifted[i].get<double>() - 0.05;
+    const json predicted = call(session, {{"op", "predict"},
+                                          {"assembly", fmt::format("serial-{}", t)},
+                                          {"parts", scanned_parts(t)},
+                                          {"control", shifted}});
+    EXPECT_TRUE(predicted["ok"].get<bool>()) << predicted.dump();
+    const json observed = call(session, {{"op", "observe"},
+                                         {"request_id", proposal["request_id"]},
+                                         {"quality", predicted["quality"]}});
+    EXPECT_TRUE(observed["ok"].get<bool>()) << observed.dump();
+    controls.push_back(proposal["control"]);
+  }
+  return controls;
+}
+
+TEST(ServeSession, TakesScannedPartsSearchesTheirOptimumAndResumesFromThem) {
+  const TemporaryDatabase whole_db;
+  ServeSession whole = ServeSession::start(scanned_parts_options(), whole_db.get());
+  const std::vector<json> expected = drive_scanned(whole, 0, 10);
+  const json expected_estimate = whole.state()["estimate"];
+  // The twin's optimum of the scanned parts is the minimal twin's closed form: u0_i =
+  // 0.2 sin(1.7 U + 0.9 L + i), U and L the sums of the parts' deviations.
+  const json first = call(
+      whole, {{"op", "propose"},
+              {"assembly", "serial-10"},
+              {"parts", {{"upper", json::array({0.25, 0.5})}, {"lower", json::array({1.5})}}}});
+  ASSERT_TRUE(first["ok"].get<bool>()) << first.dump();
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(first["report"]["optimum"][static_cast<std::size_t>(i)].get<double>(),
+                0.2 * std::sin(1.7 * 0.75 + 0.9 * 1.5 + i), 1e-3);
+  }
+  // The history keeps the cell's id and its parts.
+  EXPECT_EQ(whole.history().records().back().assembly["assembly"], "serial-10");
+  EXPECT_EQ(whole.history().records().back().assembly["parts"]["lower"][0], 1.5);
+  std::ostringstream csv;
+  write_history_csv(whole.history(), csv);
+  EXPECT_THAT(csv.str(), HasSubstr("\n4,,,serial-3,"));
+
+  const TemporaryDatabase split_db;
+  std::vector<json> controls;
+  {
+    ServeSession killed = ServeSession::start(scanned_parts_options(), split_db.get());
+    controls = drive_scanned(killed, 0, 6);
+  }
+  ServeSession resumed = ServeSession::resume(split_db.get(), Durability::normal);
+  EXPECT_EQ(resumed.observed(), 6);
+  const std::vector<json> rest = drive_scanned(resumed, 6, 10);
+  controls.insert(controls.end(), rest.begin(), rest.end());
+  EXPECT_EQ(controls, expected);
+  EXPECT_EQ(resumed.state()["estimate"], expected_estimate);
 }
 
 TEST(ServeSession, RefusesToResumeAHistoryThatDoesNotReplay) {

@@ -1,12 +1,15 @@
 #include "twincal/experiments/case_twin.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/experiments/scanned_assembly.hpp"
 #include "twincal/models/locator_subset.hpp"
 
 namespace twincal {
@@ -70,7 +73,52 @@ CaseTwin::CaseTwin(AnyTwin twin, std::vector<Index> locators)
   }
 }
 
+void AnyTwin::throw_without_scanned_parts() {
+  throw InvalidArgumentError("parts",
+                             "parts: this twin's assemblies are its own part indices; rule: only "
+                             "a twin that takes scanned parts (the external case) accepts them");
+}
+
+AssemblyId CaseTwin::add_scanned(const nlohmann::json& parts) {
+  const AssemblyId id = twin_.add_scanned(parts);
+  const std::optional<Index> k = scanned_index(id);
+  if (!k) {
+    throw InvalidArgumentError(
+        "parts", fmt::format("parts: the twin registered them as {}; rule: a scanned assembly's "
+                             "id is (k, -1)",
+                             id));
+  }
+  if (*k < std::ssize(scanned_positions_) && scanned_positions_[static_cast<std::size_t>(*k)] >= 0)
+    return id;  // registered before (the twin shares its registrations with its copies)
+  const VectorX full = twin_.optimum(id);
+  const double z_star = twin_.optimal_quality(id);
+  require_finite("z*", z_star);
+  const Index j = full_optima_.cols();
+  full_optima_.conservativeResize(Eigen::NoChange, j + 1);
+  full_optima_.col(j) = full;
+  optima_.conservativeResize(Eigen::NoChange, j + 1);
+  for (Index i = 0; i < control_dimension(); ++i)
+    optima_(i, j) = full(locators_[static_cast<std::size_t>(i)]);
+  optimal_qualities_.conservativeResize(j + 1);
+  optimal_qualities_(j) = z_star;
+  if (*k >= std::ssize(scanned_positions_))
+    scanned_positions_.resize(static_cast<std::size_t>(*k + 1), -1);
+  scanned_positions_[static_cast<std::size_t>(*k)] = j;
+  return id;
+}
+
 Index CaseTwin::position(const AssemblyId& assembly) const {
+  if (const std::optional<Index> k = scanned_index(assembly)) {
+    const Index found = *k < std::ssize(scanned_positions_)
+                            ? scanned_positions_[static_cast<std::size_t>(*k)]
+                            : Index{-1};
+    if (found >= 0) return found;
+    throw InvalidArgumentError(
+        "assembly",
+        fmt::format("assembly: scanned assembly {} is unknown; rule: must be registered first "
+                    "(add_scanned)",
+                    *k));
+  }
   const Index slot = assembly.upper * lower_parts_ + assembly.lower;
   const Index found = assembly.lower >= 0 && assembly.lower < lower_parts_ && slot >= 0 &&
                               slot < std::ssize(lookup_)

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -31,12 +32,19 @@ ExternalTwinPoolOptions pool_options(const ExternalTwinSettings& settings) {
 
 }  // namespace
 
-nlohmann::json ExternalCaseTwin::assembly_json(const AssemblyId& assembly) {
+nlohmann::json ExternalCaseTwin::assembly_json(const AssemblyId& assembly) const {
+  if (const std::optional<Index> k = scanned_index(assembly)) {
+    (void)position(assembly);  // throws for one not registered
+    return {{"parts", scanned_parts_[static_cast<std::size_t>(*k)]}};
+  }
   return {{"upper", assembly.upper}, {"lower", assembly.lower}};
 }
 
 ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings)
-    : pool_(pool_options(settings)), lower_parts_(settings.lower_parts) {
+    : pool_(pool_options(settings)),
+      lower_parts_(settings.lower_parts),
+      global_evaluations_(settings.optimum_global_evaluations),
+      local_evaluations_(settings.optimum_local_evaluations) {
   for (Index i = 0; i < settings.upper_parts; ++i) {
     for (Index j = 0; j < settings.lower_parts; ++j) assemblies_.push_back({i, j});
   }
@@ -48,19 +56,12 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings)
   const Index threads = std::min(pool_.workers(), n);
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(threads));
   std::vector<std::uint64_t> evaluations(static_cast<std::size_t>(threads), 0);
-  const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
-  const auto search = [&](Index w) {
-    NloptOptimizerOptions budgets;
-    budgets.global_evaluations = static_cast<std::uint64_t>(settings.optimum_global_evaluations);
-    budgets.local_evaluations = static_cast<std::uint64_t>(settings.optimum_local_evaluations);
-    const IndividualOptimum<ExternalTwin> optimum(pool_.worker(w), NloptOptimizer(budgets));
+  const auto search_share = [&](Index w) {
     for (Index a = w; a < n; a += threads) {
-      const AssemblyId& x = assemblies_[static_cast<std::size_t>(a)];
       try {
-        const IndividualControl found = optimum.optimize(assembly_json(x), centre);
-        optima_.col(a) = found.control;
-        optimal_qualities_(a) = found.quality;
-        evaluations[static_cast<std::size_t>(w)] += found.evaluations;
+        evaluations[static_cast<std::size_t>(w)] +=
+            search(w, assembly_json(assemblies_[static_cast<std::size_t>(a)]), optima_.col(a),
+                   optimal_qualities_(a));
       } catch (...) {
         failures[static_cast<std::size_t>(w)] = std::current_exception();
         return;
@@ -69,8 +70,8 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings)
   };
   {
     std::vector<std::jthread> workers;
-    for (Index w = 1; w < threads; ++w) workers.emplace_back(search, w);
-    search(0);
+    for (Index w = 1; w < threads; ++w) workers.emplace_back(search_share, w);
+    search_share(0);
   }
   for (const std::exception_ptr& failure : failures) {
     if (failure) std::rethrow_exception(failure);
@@ -78,8 +79,52 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings)
   for (const std::uint64_t e : evaluations) search_evaluations_ += e;
 }
 
+std::uint64_t ExternalCaseTwin::search(Index worker, const nlohmann::json& assembly,
+                                       Eigen::Ref<VectorX> optimum, double& quality) const {
+  NloptOptimizerOptions budgets;
+  budgets.global_evaluations = static_cast<std::uint64_t>(global_evaluations_);
+  budgets.local_evaluations = static_cast<std::uint64_t>(local_evaluations_);
+  const IndividualOptimum<ExternalTwin> optimizer(pool_.worker(worker), NloptOptimizer(budgets));
+  const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
+  const IndividualControl found = optimizer.optimize(assembly, centre);
+  optimum = found.control;
+  quality = found.quality;
+  return found.evaluations;
+}
+
+AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts) {
+  const std::string key = parts.dump();
+  if (const auto known = scanned_ids_.find(key); known != scanned_ids_.end()) {
+    return scanned_assembly(known->second);
+  }
+  VectorX optimum(control_dimension());
+  double quality = 0.0;
+  const std::uint64_t evaluations = search(0, {{"parts", parts}}, optimum, quality);
+  // The search succeeded: only now does anything change.
+  const Index column = optima_.cols();
+  optima_.conservativeResize(Eigen::NoChange, column + 1);
+  optima_.col(column) = optimum;
+  optimal_qualities_.conservativeResize(column + 1);
+  optimal_qualities_(column) = quality;
+  const Index k = scanned_count();
+  scanned_parts_.push_back(parts);
+  scanned_ids_.emplace(key, k);
+  search_evaluations_ += evaluations;
+  return scanned_assembly(k);
+}
+
 Index ExternalCaseTwin::position(const AssemblyId& assembly) const {
-  const Index upper_parts = std::ssize(assemblies_) / lower_parts_;
+  const Index pairs = std::ssize(assemblies_);
+  if (const std::optional<Index> k = scanned_index(assembly)) {
+    if (*k >= scanned_count()) {
+      throw InvalidArgumentError(
+          "assembly", fmt::format("assembly: scanned assembly {} is unknown; rule: {} scanned "
+                                  "assemblies are registered",
+                                  *k, scanned_count()));
+    }
+    return pairs + *k;
+  }
+  const Index upper_parts = pairs / lower_parts_;
   if (assembly.upper < 0 || assembly.upper >= upper_parts || assembly.lower < 0 ||
       assembly.lower >= lower_parts_) {
     throw InvalidArgumentError(

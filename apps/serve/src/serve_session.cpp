@@ -65,8 +65,7 @@ std::optional<std::string> ServeOptions::validate() const {
   return std::nullopt;
 }
 
-ServeSession::ServeSession(ServeOptions options, std::unique_ptr<const CaseTwin> twin,
-                           HistoryStore store)
+ServeSession::ServeSession(ServeOptions options, std::unique_ptr<CaseTwin> twin, HistoryStore store)
     : options_(std::move(options)),
       twin_(std::move(twin)),
       controller_(
@@ -79,7 +78,7 @@ ServeSession::ServeSession(ServeOptions options, std::unique_ptr<const CaseTwin>
 ServeSession ServeSession::start(const ServeOptions& options,
                                  const std::filesystem::path& database) {
   require_valid("options", options);
-  auto twin = std::make_unique<const CaseTwin>(make_case_twin(options.config));
+  auto twin = std::make_unique<CaseTwin>(make_case_twin(options.config));
   // Checks the controller's settings before the database exists.
   (void)make_episode_controller(*twin, options.config, options.controller, options.run);
   const json settings = {{"config", json(options.config).dump()},
@@ -104,7 +103,7 @@ ServeSession ServeSession::resume(const std::filesystem::path& database, Durabil
                                                            database.string(), error.what()));
   }
   options.durability = durability;
-  ServeSession session(options, std::make_unique<const CaseTwin>(make_case_twin(options.config)),
+  ServeSession session(options, std::make_unique<CaseTwin>(make_case_twin(options.config)),
                        std::move(store));
   session.replay();
   return session;
@@ -172,12 +171,19 @@ json ServeSession::dispatch(const std::string& op, const json& request) {
   throw InvalidArgumentError("op", fmt::format("op: is \"{}\"; rule: one of {}", op, operations));
 }
 
-AssemblyId ServeSession::parse_assembly(const json& request) const {
+ServeSession::ResolvedAssembly ServeSession::resolve_assembly(const json& request) {
   const auto it = request.find("assembly");
   if (it == request.end()) {
     throw InvalidArgumentError("assembly",
-                               "assembly: is missing; rule: propose names the "
-                               "assembly, as an index or [upper, lower]");
+                               "assembly: is missing; rule: a request names the assembly, as an "
+                               "index or [upper, lower], or by any id together with its parts");
+  }
+  if (const auto parts = request.find("parts"); parts != request.end()) {
+    if (parts->is_null()) {
+      throw InvalidArgumentError("parts",
+                                 "parts: is null; rule: the scanned parts, any other JSON value");
+    }
+    return {twin_->add_scanned(*parts), {{"assembly", *it}, {"parts", *parts}}};
   }
   const std::vector<AssemblyId>& all = twin_->assemblies();
   if (it->is_number_integer()) {
@@ -187,7 +193,8 @@ AssemblyId ServeSession::parse_assembly(const json& request) const {
           "assembly", fmt::format("assembly: is {}; rule: an index must lie in [0, {}]", index,
                                   std::ssize(all) - 1));
     }
-    return all[static_cast<std::size_t>(index)];
+    const AssemblyId id = all[static_cast<std::size_t>(index)];
+    return {id, {id.upper, id.lower}};
   }
   if (it->is_array() && it->size() == 2 && (*it)[0].is_number_integer() &&
       (*it)[1].is_number_integer()) {
@@ -198,11 +205,20 @@ AssemblyId ServeSession::parse_assembly(const json& request) const {
                                   "assemblies",
                                   id.upper, id.lower, all.size()));
     }
-    return id;
+    return {id, {id.upper, id.lower}};
   }
   throw InvalidArgumentError("assembly", fmt::format("assembly: is {}; rule: an index or [upper, "
-                                                     "lower] (integers)",
+                                                     "lower] (integers), or any id with parts",
                                                      it->dump()));
+}
+
+ServeSession::ResolvedAssembly ServeSession::recorded_assembly(const json& stored) {
+  if (stored.is_object()) return {twin_->add_scanned(stored.at("parts")), stored};
+  return {AssemblyId{stored.at(0).get<Index>(), stored.at(1).get<Index>()}, stored};
+}
+
+json ServeSession::echo(const json& stored) {
+  return stored.is_object() ? stored.at("assembly") : stored;
 }
 
 json ServeSession::estimate_json() const {
@@ -218,7 +234,7 @@ json ServeSession::covariance_json() const {
 }
 
 json ServeSession::make_proposal(std::int64_t request_id, const AssemblyId& assembly,
-                                 const json& assembly_json) {
+                                 const json& stored) {
   const std::uint64_t before = CaseTwin::evaluations_on_this_thread();
   controller_.propose(assembly, control_);
   const std::uint64_t evaluations = CaseTwin::evaluations_on_this_thread() - before;
@@ -232,7 +248,7 @@ json ServeSession::make_proposal(std::int64_t request_id, const AssemblyId& asse
   return {{"ok", true},
           {"op", "propose"},
           {"request_id", request_id},
-          {"assembly", assembly_json},
+          {"assembly", echo(stored)},
           {"control", vector_json(control_)},
           {"report",
            {{"optimum", vector_json(optimum)},
@@ -243,30 +259,28 @@ json ServeSession::make_proposal(std::int64_t request_id, const AssemblyId& asse
 }
 
 json ServeSession::propose(const json& request) {
-  require_keys(request, "propose", {"assembly"});
-  const AssemblyId assembly = parse_assembly(request);
+  require_keys(request, "propose", {"assembly", "parts"});
+  const ResolvedAssembly assembly = resolve_assembly(request);
   if (pending_) {
-    if (pending_->assembly == assembly) {
+    if (pending_->assembly_json == assembly.stored) {
       json reply = pending_->reply;
       reply["repeated"] = true;
       return reply;
     }
     throw InvalidArgumentError(
-        "op",
-        fmt::format("op: propose while request {} (assembly [{}, {}]) awaits its "
-                    "observation; rule: one assembly at a time — observe it first",
-                    pending_->request_id, pending_->assembly.upper, pending_->assembly.lower));
+        "op", fmt::format("op: propose while request {} (assembly {}) awaits its observation; "
+                          "rule: one assembly at a time — observe it first",
+                          pending_->request_id, echo(pending_->assembly_json).dump()));
   }
-  const json assembly_json = {assembly.upper, assembly.lower};
   json reply;
   try {
-    reply = make_proposal(next_request_, assembly, assembly_json);
+    reply = make_proposal(next_request_, assembly.id, assembly.stored);
   } catch (...) {
     rebuild();  // the controller may have predicted: back to what the history holds
     throw;
   }
-  store_.record_proposal(next_request_, assembly_json, reply["control"], reply["report"]);
-  pending_ = Pending{next_request_, assembly, assembly_json, control_, reply};
+  store_.record_proposal(next_request_, assembly.stored, reply["control"], reply["report"]);
+  pending_ = Pending{next_request_, assembly.id, assembly.stored, control_, reply};
   ++next_request_;
   return reply;
 }
@@ -312,9 +326,9 @@ json ServeSession::observe(const json& request) {
           {"estimate", estimate}, {"covariance", covariance}, {"observed", observed_}};
 }
 
-json ServeSession::predict(const json& request) const {
-  require_keys(request, "predict", {"assembly", "control"});
-  const AssemblyId assembly = parse_assembly(request);
+json ServeSession::predict(const json& request) {
+  require_keys(request, "predict", {"assembly", "parts", "control"});
+  const ResolvedAssembly assembly = resolve_assembly(request);
   const auto it = request.find("control");
   const Index d = twin_->control_dimension();
   if (it == request.end() || !it->is_array() || std::ssize(*it) != d) {
@@ -334,15 +348,15 @@ json ServeSession::predict(const json& request) const {
   }
   return {{"ok", true},
           {"op", "predict"},
-          {"assembly", {assembly.upper, assembly.lower}},
-          {"quality", twin_->plant_quality(assembly, control)}};
+          {"assembly", echo(assembly.stored)},
+          {"quality", twin_->plant_quality(assembly.id, control)}};
 }
 
 json ServeSession::state() const {
   json pending = nullptr;
   if (pending_) {
     pending = {{"request_id", pending_->request_id},
-               {"assembly", pending_->assembly_json},
+               {"assembly", echo(pending_->assembly_json)},
                {"control", vector_json(pending_->control)}};
   }
   return {{"controller", options_.controller.label()},
@@ -369,8 +383,10 @@ void ServeSession::replay() {
     if (record.request_id != next_request_) throw mismatch("request_id");
     AssemblyId assembly;
     try {
-      assembly = {record.assembly.at(0).get<Index>(), record.assembly.at(1).get<Index>()};
+      assembly = recorded_assembly(record.assembly).id;
     } catch (const json::exception&) {
+      throw mismatch("assembly");
+    } catch (const InvalidArgumentError&) {  // scanned parts, and the twin takes none
       throw mismatch("assembly");
     }
     const json reply = make_proposal(record.request_id, assembly, record.assembly);

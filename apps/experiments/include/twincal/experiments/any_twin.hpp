@@ -4,7 +4,8 @@
 /// TwinWithOptimum): the FEM sheet-metal twin, the analytic twins or a user's, behind one type,
 /// so the episode runner is compiled once per controller and not once per twin. Only the batch
 /// call crosses the virtual boundary, once per filter update or candidate grid, so the erasure
-/// costs nothing measurable. Copies share the (immutable) twin.
+/// costs nothing measurable. Copies share the twin; the only change a twin takes is a scanned
+/// assembly registered (add_scanned()), which copies then share too.
 
 #include <array>
 #include <concepts>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/models/assembly_id.hpp"
@@ -30,7 +32,7 @@ class AnyTwin {
   template <TwinWithOptimum T>
   requires std::same_as<typename T::Assembly, AssemblyId> AnyTwin(
       T twin, std::vector<AssemblyId> assemblies, std::vector<Index> significant)
-      : model_(std::make_shared<const Model<T>>(std::move(twin))),
+      : model_(std::make_shared<Model<T>>(std::move(twin))),
         assemblies_(std::move(assemblies)),
         significant_(std::move(significant)) {}
 
@@ -54,6 +56,12 @@ class AnyTwin {
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
     return model_->optimal_quality(assembly);
   }
+  /// Registers the assembly of scanned `parts` with a twin that takes them (T::add_scanned,
+  /// e.g. ExternalCaseTwin) and returns its id; not for use concurrent with other calls.
+  /// @throws InvalidArgumentError (field "parts") for a twin whose assemblies are only its own
+  ///         part indices; the twin's errors, with nothing registered.
+  AssemblyId add_scanned(const nlohmann::json& parts) { return model_->add_scanned(parts); }
+  /// The twin's own assemblies (pairs of part indices), not the scanned ones.
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
   /// Indices of the locators A, B, C (the ones that affect the quality most).
   [[nodiscard]] const std::vector<Index>& significant_locators() const noexcept {
@@ -73,6 +81,7 @@ class AnyTwin {
                                Eigen::Ref<VectorX>) const = 0;
     [[nodiscard]] virtual VectorX optimum(const AssemblyId&) const = 0;
     [[nodiscard]] virtual double optimal_quality(const AssemblyId&) const = 0;
+    virtual AssemblyId add_scanned(const nlohmann::json& parts) = 0;
   };
 
   template <typename T>
@@ -98,10 +107,21 @@ class AnyTwin {
     [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const override {
       return twin.optimal_quality(assembly);
     }
+    AssemblyId add_scanned(const nlohmann::json& parts) override {
+      if constexpr (requires {
+                      { twin.add_scanned(parts) } -> std::same_as<AssemblyId>;
+                    }) {
+        return twin.add_scanned(parts);
+      } else {
+        throw_without_scanned_parts();
+      }
+    }
     T twin;
   };
 
-  std::shared_ptr<const Concept> model_;
+  [[noreturn]] static void throw_without_scanned_parts();
+
+  std::shared_ptr<Concept> model_;
   std::vector<AssemblyId> assemblies_;
   std::vector<Index> significant_;
 };

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/any_twin.hpp"
@@ -40,7 +41,14 @@ class CaseTwin {
   /// Indices of the controlled locators in the full twin.
   [[nodiscard]] const std::vector<Index>& locators() const noexcept { return locators_; }
   [[nodiscard]] const AnyTwin& full_twin() const noexcept { return twin_; }
-  /// The full twin's assemblies, in its order.
+  /// Registers the assembly of scanned `parts` with the full twin (AnyTwin::add_scanned) and
+  /// computes its u0_S and z*; parts registered before give their id again. Not for use
+  /// concurrent with other calls.
+  /// @throws InvalidArgumentError (field "parts") for a twin that takes no scanned parts; the
+  ///         twin's errors; nothing changes then.
+  AssemblyId add_scanned(const nlohmann::json& parts);
+
+  /// The full twin's assemblies, in its order (not the scanned ones).
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept {
     return twin_.assemblies();
   }
@@ -78,11 +86,12 @@ class CaseTwin {
   std::vector<std::string> names_;
   VectorX lower_bounds_;
   VectorX upper_bounds_;
-  Index lower_parts_ = 0;      // assembly (i, j) is at i·lower_parts_ + j in the lookup
-  std::vector<Index> lookup_;  // position in assemblies(), −1 for an unknown id
-  MatrixX full_optima_;        // u0(x), D × assemblies
-  MatrixX optima_;             // u0_S(x), |S| × assemblies
-  VectorX optimal_qualities_;  // z*(x)
+  Index lower_parts_ = 0;                 // assembly (i, j) is at i·lower_parts_ + j in the lookup
+  std::vector<Index> lookup_;             // position in assemblies(), −1 for an unknown id
+  std::vector<Index> scanned_positions_;  // position of scanned assembly k, −1 if not here
+  MatrixX full_optima_;                   // u0(x), D × assemblies
+  MatrixX optima_;                        // u0_S(x), |S| × assemblies
+  VectorX optimal_qualities_;             // z*(x)
 };
 
 static_assert(TwinWithOptimum<CaseTwin>);

@@ -6,8 +6,14 @@
 /// spread over the workers, failures retried once); u0(x) and z*(x) of every assembly are
 /// searched once, at construction, with NLopt from the centre of the bounds — one assembly per
 /// worker at a time, so N workers search N assemblies at once.
+///
+/// Scanned assemblies. Besides its upper_parts × lower_parts pairs, the twin takes assemblies
+/// given by their scanned parts (any JSON, e.g. a cell's measurements): add_scanned() registers
+/// one, searches its optimum and returns its id, scanned_assembly(k) for the k-th registered
+/// (scanned_assembly.hpp); the program then receives {"parts": <the parts>} as the assembly.
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -16,6 +22,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/external_twin_settings.hpp"
+#include "twincal/experiments/scanned_assembly.hpp"
 #include "twincal/models/assembly_id.hpp"
 #include "twincal/models/external_twin_pool.hpp"
 #include "twincal/models/twin.hpp"
@@ -45,30 +52,48 @@ class ExternalCaseTwin {
                      Eigen::Ref<VectorX> out) const {
     pool_.quality_batch(assembly_json(assembly), controls, out);
   }
-  /// u0(x) as searched at construction.
+  /// u0(x) as searched at construction (or by add_scanned()).
   [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
     return optima_.col(position(assembly));
   }
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
     return optimal_qualities_(position(assembly));
   }
-  /// Every (upper, lower) pair, upper-major.
+  /// Registers the assembly of scanned `parts` and searches its optimum with worker 0; parts
+  /// equal (as JSON) to registered ones give their id again, without a search. Not for use
+  /// concurrent with other calls.
+  /// @throws ExternalTwinError when the program fails (after the pool's retry); nothing is
+  ///         registered then.
+  AssemblyId add_scanned(const nlohmann::json& parts);
+  /// Scanned assemblies registered so far.
+  [[nodiscard]] Index scanned_count() const noexcept { return std::ssize(scanned_parts_); }
+  /// Every (upper, lower) pair, upper-major (the scanned assemblies are not listed).
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
   /// Evaluations the optimum searches took, over all assemblies.
   [[nodiscard]] std::uint64_t search_evaluations() const noexcept { return search_evaluations_; }
   [[nodiscard]] const ExternalTwinPool& pool() const noexcept { return pool_; }
 
-  /// What the program receives as the assembly: {"upper": i, "lower": j}.
-  [[nodiscard]] static nlohmann::json assembly_json(const AssemblyId& assembly);
+  /// What the program receives as the assembly: {"upper": i, "lower": j}, or {"parts": …} for
+  /// a scanned one. @throws InvalidArgumentError for an unknown assembly.
+  [[nodiscard]] nlohmann::json assembly_json(const AssemblyId& assembly) const;
 
  private:
+  // Column of `assembly` in optima_: the pairs first, then the scanned assemblies.
   [[nodiscard]] Index position(const AssemblyId& assembly) const;
+  // u0 and z* of `assembly` (as the program receives it), searched with worker `worker`, into
+  // `optimum` and `quality`; returns the evaluations it took.
+  std::uint64_t search(Index worker, const nlohmann::json& assembly, Eigen::Ref<VectorX> optimum,
+                       double& quality) const;
 
   ExternalTwinPool pool_;
   Index lower_parts_;
+  Index global_evaluations_;
+  Index local_evaluations_;
   std::vector<AssemblyId> assemblies_;
-  MatrixX optima_;             // d × assemblies
-  VectorX optimal_qualities_;  // assemblies
+  std::vector<nlohmann::json> scanned_parts_;  // k-th scanned assembly's parts
+  std::map<std::string, Index> scanned_ids_;   // parts (compact JSON) → k
+  MatrixX optima_;                             // d × (pairs + scanned)
+  VectorX optimal_qualities_;                  // pairs + scanned
   std::uint64_t search_evaluations_ = 0;
 };
 

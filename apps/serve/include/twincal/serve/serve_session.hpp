@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// `ServeSession`: the online controller of `twincal serve` — the paper's Fig. 1 loop with a
-/// real cell on the other side. Per assembly the cell sends `propose` (which assembly), the
+/// real cell on the other side. Per assembly the cell sends `propose` (which assembly, or its
+/// scanned parts for a twin that takes them: the external case), the
 /// session answers with the locator adjustment u_t; after welding the cell sends `observe` (the
 /// measured quality z_t) and the controller learns from it (eq. 5a–b, 8). One request at a time:
 /// the controllers predict in propose and update in observe, so a second propose before the
@@ -89,26 +90,38 @@ class ServeSession {
   [[nodiscard]] const CaseTwin& twin() const noexcept { return *twin_; }
 
  private:
+  // An assembly as the controller sees it, and as the history stores it: [upper, lower] for
+  // one of the twin's own, {"assembly": the cell's id, "parts": …} for scanned parts.
+  struct ResolvedAssembly {
+    AssemblyId id;
+    nlohmann::json stored;
+  };
   struct Pending {
     std::int64_t request_id = 0;
     AssemblyId assembly;
-    nlohmann::json assembly_json;
+    nlohmann::json assembly_json;  // as stored
     VectorX control;
     nlohmann::json reply;
   };
 
   // Builds the controller over `twin`, which stays where it is: the controller refers to it.
-  ServeSession(ServeOptions options, std::unique_ptr<const CaseTwin> twin, HistoryStore store);
+  ServeSession(ServeOptions options, std::unique_ptr<CaseTwin> twin, HistoryStore store);
 
   // The reply to a request of `op` (a known or unknown operation). @throws Error.
   [[nodiscard]] nlohmann::json dispatch(const std::string& op, const nlohmann::json& request);
   [[nodiscard]] nlohmann::json propose(const nlohmann::json& request);
   [[nodiscard]] nlohmann::json observe(const nlohmann::json& request);
-  [[nodiscard]] nlohmann::json predict(const nlohmann::json& request) const;
-  [[nodiscard]] AssemblyId parse_assembly(const nlohmann::json& request) const;
+  [[nodiscard]] nlohmann::json predict(const nlohmann::json& request);
+  // The request's assembly (scanned parts are registered with the twin: a search of u0 the
+  // first time). @throws InvalidArgumentError naming `assembly` or `parts`; the twin's errors.
+  [[nodiscard]] ResolvedAssembly resolve_assembly(const nlohmann::json& request);
+  // The assembly of a stored proposal. @throws nlohmann::json::exception when malformed.
+  [[nodiscard]] ResolvedAssembly recorded_assembly(const nlohmann::json& stored);
+  // What replies show of a stored assembly: [upper, lower], or the cell's id.
+  [[nodiscard]] static nlohmann::json echo(const nlohmann::json& stored);
   // u_t and the report, without touching the store.
   [[nodiscard]] nlohmann::json make_proposal(std::int64_t request_id, const AssemblyId& assembly,
-                                             const nlohmann::json& assembly_json);
+                                             const nlohmann::json& stored);
   // δû_t and P_t as JSON.
   [[nodiscard]] nlohmann::json estimate_json() const;
   [[nodiscard]] nlohmann::json covariance_json() const;
@@ -117,7 +130,7 @@ class ServeSession {
   void rebuild();
 
   ServeOptions options_;
-  std::unique_ptr<const CaseTwin> twin_;  // heap: the controller holds its address
+  std::unique_ptr<CaseTwin> twin_;  // heap: the controller holds its address; grows by scans
   AnyController controller_;
   HistoryStore store_;
   std::optional<Pending> pending_;
