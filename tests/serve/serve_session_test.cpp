@@ -293,6 +293,30 @@ TEST(ServeSession, TakesScannedPartsSearchesTheirOptimumAndResumesFromThem) {
   EXPECT_EQ(resumed.state()["estimate"], expected_estimate);
 }
 
+TEST(ServeSession, ResumesScannedPartsFromTheirRecordedOptimumWithoutSearchingAgain) {
+  const TemporaryDatabase database;
+  {
+    ServeSession session = ServeSession::start(scanned_parts_options(), database.get());
+    drive_scanned(session, 0, 4);
+  }
+  // The recorded u0 of request 2 moved by 1e-6: a resume that searched again would not notice;
+  // one that takes the record replays to other controls and refuses the history.
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(database.get().c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db,
+                         "UPDATE proposals SET assembly = json_set(assembly, '$.optimum[0]', "
+                         "json_extract(assembly, '$.optimum[0]') + 1e-6) WHERE request_id = 2",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  try {
+    (void)ServeSession::resume(database.get(), Durability::normal);
+    FAIL() << "resumed a history whose recorded optimum was edited";
+  } catch (const HistoryMismatchError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("request 2 replays to another"));
+  }
+}
+
 TEST(ServeSession, RefusesToResumeAHistoryThatDoesNotReplay) {
   const TemporaryDatabase database;
   {

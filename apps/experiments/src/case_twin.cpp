@@ -79,8 +79,9 @@ void AnyTwin::throw_without_scanned_parts() {
                              "a twin that takes scanned parts (the external case) accepts them");
 }
 
-AssemblyId CaseTwin::add_scanned(const nlohmann::json& parts) {
-  const AssemblyId id = twin_.add_scanned(parts);
+AssemblyId CaseTwin::add_scanned(const nlohmann::json& parts,
+                                 const std::optional<ScannedOptimum>& known) {
+  const AssemblyId id = twin_.add_scanned(parts, known);
   const std::optional<Index> k = scanned_index(id);
   if (!k) {
     throw InvalidArgumentError(

@@ -12,6 +12,7 @@
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
+#include "twincal/core/validate.hpp"
 
 namespace twincal {
 namespace {
@@ -92,14 +93,24 @@ std::uint64_t ExternalCaseTwin::search(Index worker, const nlohmann::json& assem
   return found.evaluations;
 }
 
-AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts) {
+AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
+                                         const std::optional<ScannedOptimum>& known) {
   const std::string key = parts.dump();
-  if (const auto known = scanned_ids_.find(key); known != scanned_ids_.end()) {
-    return scanned_assembly(known->second);
+  if (const auto found = scanned_ids_.find(key); found != scanned_ids_.end()) {
+    return scanned_assembly(found->second);
   }
   VectorX optimum(control_dimension());
   double quality = 0.0;
-  const std::uint64_t evaluations = search(0, {{"parts", parts}}, optimum, quality);
+  std::uint64_t evaluations = 0;
+  if (known) {
+    require_dimension("known.control", known->control.size(), control_dimension());
+    require_finite("known.control", known->control);
+    require_finite("known.quality", known->quality);
+    optimum = known->control;
+    quality = known->quality;
+  } else {
+    evaluations = search(0, {{"parts", parts}}, optimum, quality);
+  }
   // The search succeeded: only now does anything change.
   const Index column = optima_.cols();
   optima_.conservativeResize(Eigen::NoChange, column + 1);

@@ -183,7 +183,15 @@ ServeSession::ResolvedAssembly ServeSession::resolve_assembly(const json& reques
       throw InvalidArgumentError("parts",
                                  "parts: is null; rule: the scanned parts, any other JSON value");
     }
-    return {twin_->add_scanned(*parts), {{"assembly", *it}, {"parts", *parts}}};
+    const AssemblyId id = twin_->add_scanned(*parts);
+    // The full twin's u0 and z* go into the history with the parts, so that a resume registers
+    // them again without searching (a slow twin's search takes thousands of calls).
+    const AnyTwin& full = twin_->full_twin();
+    return {id,
+            {{"assembly", *it},
+             {"parts", *parts},
+             {"optimum", vector_json(full.optimum(id))},
+             {"optimal_quality", full.optimal_quality(id)}}};
   }
   const std::vector<AssemblyId>& all = twin_->assemblies();
   if (it->is_number_integer()) {
@@ -213,7 +221,12 @@ ServeSession::ResolvedAssembly ServeSession::resolve_assembly(const json& reques
 }
 
 ServeSession::ResolvedAssembly ServeSession::recorded_assembly(const json& stored) {
-  if (stored.is_object()) return {twin_->add_scanned(stored.at("parts")), stored};
+  if (stored.is_object()) {
+    const auto optimum = stored.at("optimum").get<std::vector<double>>();
+    const ScannedOptimum known{Eigen::Map<const VectorX>(optimum.data(), std::ssize(optimum)),
+                               stored.at("optimal_quality").get<double>()};
+    return {twin_->add_scanned(stored.at("parts"), known), stored};
+  }
   return {AssemblyId{stored.at(0).get<Index>(), stored.at(1).get<Index>()}, stored};
 }
 
@@ -386,7 +399,9 @@ void ServeSession::replay() {
       assembly = recorded_assembly(record.assembly).id;
     } catch (const json::exception&) {
       throw mismatch("assembly");
-    } catch (const InvalidArgumentError&) {  // scanned parts, and the twin takes none
+    } catch (const InvalidArgumentError&) {  // scanned parts the twin takes none of, or
+      throw mismatch("assembly");            // a recorded optimum of the wrong size
+    } catch (const NonFiniteError&) {
       throw mismatch("assembly");
     }
     const json reply = make_proposal(record.request_id, assembly, record.assembly);

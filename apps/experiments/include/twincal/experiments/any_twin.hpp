@@ -10,6 +10,7 @@
 #include <array>
 #include <concepts>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,6 +19,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/experiments/scanned_assembly.hpp"
 #include "twincal/models/assembly_id.hpp"
 #include "twincal/models/twin.hpp"
 
@@ -57,10 +59,14 @@ class AnyTwin {
     return model_->optimal_quality(assembly);
   }
   /// Registers the assembly of scanned `parts` with a twin that takes them (T::add_scanned,
-  /// e.g. ExternalCaseTwin) and returns its id; not for use concurrent with other calls.
+  /// e.g. ExternalCaseTwin; with `known`, its optimum as found before) and returns its id; not
+  /// for use concurrent with other calls.
   /// @throws InvalidArgumentError (field "parts") for a twin whose assemblies are only its own
   ///         part indices; the twin's errors, with nothing registered.
-  AssemblyId add_scanned(const nlohmann::json& parts) { return model_->add_scanned(parts); }
+  AssemblyId add_scanned(const nlohmann::json& parts,
+                         const std::optional<ScannedOptimum>& known = std::nullopt) {
+    return model_->add_scanned(parts, known);
+  }
   /// The twin's own assemblies (pairs of part indices), not the scanned ones.
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
   /// Indices of the locators A, B, C (the ones that affect the quality most).
@@ -81,7 +87,8 @@ class AnyTwin {
                                Eigen::Ref<VectorX>) const = 0;
     [[nodiscard]] virtual VectorX optimum(const AssemblyId&) const = 0;
     [[nodiscard]] virtual double optimal_quality(const AssemblyId&) const = 0;
-    virtual AssemblyId add_scanned(const nlohmann::json& parts) = 0;
+    virtual AssemblyId add_scanned(const nlohmann::json& parts,
+                                   const std::optional<ScannedOptimum>& known) = 0;
   };
 
   template <typename T>
@@ -107,11 +114,12 @@ class AnyTwin {
     [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const override {
       return twin.optimal_quality(assembly);
     }
-    AssemblyId add_scanned(const nlohmann::json& parts) override {
+    AssemblyId add_scanned(const nlohmann::json& parts,
+                           const std::optional<ScannedOptimum>& known) override {
       if constexpr (requires {
-                      { twin.add_scanned(parts) } -> std::same_as<AssemblyId>;
+                      { twin.add_scanned(parts, known) } -> std::same_as<AssemblyId>;
                     }) {
-        return twin.add_scanned(parts);
+        return twin.add_scanned(parts, known);
       } else {
         throw_without_scanned_parts();
       }

@@ -12,6 +12,7 @@
 /// Thread-safe for concurrent const use.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/any_twin.hpp"
+#include "twincal/experiments/scanned_assembly.hpp"
 #include "twincal/models/assembly_id.hpp"
 #include "twincal/models/twin.hpp"
 
@@ -41,12 +43,13 @@ class CaseTwin {
   /// Indices of the controlled locators in the full twin.
   [[nodiscard]] const std::vector<Index>& locators() const noexcept { return locators_; }
   [[nodiscard]] const AnyTwin& full_twin() const noexcept { return twin_; }
-  /// Registers the assembly of scanned `parts` with the full twin (AnyTwin::add_scanned) and
-  /// computes its u0_S and z*; parts registered before give their id again. Not for use
-  /// concurrent with other calls.
+  /// Registers the assembly of scanned `parts` with the full twin (AnyTwin::add_scanned, which
+  /// searches its optimum unless `known`, the full twin's u0 and z*, is given) and computes its
+  /// u0_S; parts registered before give their id again. Not for use concurrent with other calls.
   /// @throws InvalidArgumentError (field "parts") for a twin that takes no scanned parts; the
   ///         twin's errors; nothing changes then.
-  AssemblyId add_scanned(const nlohmann::json& parts);
+  AssemblyId add_scanned(const nlohmann::json& parts,
+                         const std::optional<ScannedOptimum>& known = std::nullopt);
 
   /// The full twin's assemblies, in its order (not the scanned ones).
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept {

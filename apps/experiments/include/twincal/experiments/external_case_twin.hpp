@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,12 +60,13 @@ class ExternalCaseTwin {
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
     return optimal_qualities_(position(assembly));
   }
-  /// Registers the assembly of scanned `parts` and searches its optimum with worker 0; parts
-  /// equal (as JSON) to registered ones give their id again, without a search. Not for use
-  /// concurrent with other calls.
-  /// @throws ExternalTwinError when the program fails (after the pool's retry); nothing is
-  ///         registered then.
-  AssemblyId add_scanned(const nlohmann::json& parts);
+  /// Registers the assembly of scanned `parts` and searches its optimum with worker 0, or takes
+  /// `known` (what an earlier search found, e.g. from a history) without a search; parts equal
+  /// (as JSON) to registered ones give their id again. Not for use concurrent with other calls.
+  /// @throws ExternalTwinError when the program fails (after the pool's retry);
+  ///         DimensionMismatchError, NonFiniteError for a bad `known`; nothing is registered then.
+  AssemblyId add_scanned(const nlohmann::json& parts,
+                         const std::optional<ScannedOptimum>& known = std::nullopt);
   /// Scanned assemblies registered so far.
   [[nodiscard]] Index scanned_count() const noexcept { return std::ssize(scanned_parts_); }
   /// Every (upper, lower) pair, upper-major (the scanned assemblies are not listed).
