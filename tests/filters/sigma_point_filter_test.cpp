@@ -141,9 +141,9 @@ void expect_unchanged(const Filter& filter, const Filter& before) {
 
 template <typename Size>
 class SigmaPointFilterTest : public ::testing::Test {};
-using Dimensions =
+using FilterDimensions =
     ::testing::Types<std::integral_constant<int, 3>, std::integral_constant<int, Dynamic>>;
-TYPED_TEST_SUITE(SigmaPointFilterTest, Dimensions);
+TYPED_TEST_SUITE(SigmaPointFilterTest, FilterDimensions);
 
 TYPED_TEST(SigmaPointFilterTest, UpdateIsPreviewThenCommit) {
   constexpr int N = TypeParam::value;

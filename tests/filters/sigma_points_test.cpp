@@ -182,9 +182,9 @@ TEST(SigmaPointSchemes, WeightVectorsMustHaveOneEntryPerPoint) {
 // --- SigmaPoints ---------------------------------------------------------------------------
 template <typename Size>
 class SigmaPointsTest : public ::testing::Test {};
-using Dimensions =
+using PointDimensions =
     ::testing::Types<std::integral_constant<int, 3>, std::integral_constant<int, Dynamic>>;
-TYPED_TEST_SUITE(SigmaPointsTest, Dimensions);
+TYPED_TEST_SUITE(SigmaPointsTest, PointDimensions);
 
 TYPED_TEST(SigmaPointsTest, WeightedMomentsReproduceTheGaussian) {
   constexpr int N = TypeParam::value;
