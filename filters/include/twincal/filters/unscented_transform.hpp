@@ -64,7 +64,7 @@ void propagate_points(const SM& model, const Matrix<N, M>& points, Matrix<N, M>&
 
 /// The largest state dimension n whose run-time-sized n × M · M × n products take Eigen's
 /// coefficient-based kernel instead of its blocked GEMM (weighted_covariance). Measured on the
-/// UKF's predict + update (Clang 14 -O3): 10 % faster at n = 6, 8 % slower at n = 12; below
+/// UKF's predict + update (Clang 14 -O3): 10 % faster at n = 6, 8 % slower at n = 12; up to
 /// n = 4 Eigen picks the coefficient-based kernel by itself (rows + cols + depth < 20).
 inline constexpr Index lazy_product_max_rows = 8;
 
