@@ -65,18 +65,17 @@ CaseTwin::CaseTwin(AnyTwin twin, std::vector<Index> locators)
   for (Index j = 0; j < n; ++j) {
     const AssemblyId& a = all[static_cast<std::size_t>(j)];
     lookup_[static_cast<std::size_t>(a.upper * lower_parts_ + a.lower)] = j;
-    full_optima_.col(j) = twin_.optimum(a);
-    for (Index i = 0; i < k; ++i)
-      optima_(i, j) = full_optima_(locators_[static_cast<std::size_t>(i)], j);
-    optimal_qualities_(j) = twin_.optimal_quality(a);
-    require_finite("z*", optimal_qualities_(j));
+    const double z_star = twin_.optimal_quality(a);
+    require_finite("z*", z_star);
+    store_optimum(j, twin_.optimum(a), z_star);
   }
 }
 
-void AnyTwin::throw_without_scanned_parts() {
-  throw InvalidArgumentError("parts",
-                             "parts: this twin's assemblies are its own part indices; rule: only "
-                             "a twin that takes scanned parts (the external case) accepts them");
+void CaseTwin::store_optimum(Index j, const VectorX& full, double z_star) {
+  full_optima_.col(j) = full;
+  for (Index i = 0; i < control_dimension(); ++i)
+    optima_(i, j) = full(locators_[static_cast<std::size_t>(i)]);
+  optimal_qualities_(j) = z_star;
 }
 
 AssemblyId CaseTwin::add_scanned(const nlohmann::json& parts,
@@ -96,12 +95,9 @@ AssemblyId CaseTwin::add_scanned(const nlohmann::json& parts,
   require_finite("z*", z_star);
   const Index j = full_optima_.cols();
   full_optima_.conservativeResize(Eigen::NoChange, j + 1);
-  full_optima_.col(j) = full;
   optima_.conservativeResize(Eigen::NoChange, j + 1);
-  for (Index i = 0; i < control_dimension(); ++i)
-    optima_(i, j) = full(locators_[static_cast<std::size_t>(i)]);
   optimal_qualities_.conservativeResize(j + 1);
-  optimal_qualities_(j) = z_star;
+  store_optimum(j, full, z_star);
   if (*k >= std::ssize(scanned_positions_))
     scanned_positions_.resize(static_cast<std::size_t>(*k + 1), -1);
   scanned_positions_[static_cast<std::size_t>(*k)] = j;

@@ -83,6 +83,8 @@ class CaseTwin {
   // The full control u0(x) with the controlled entries replaced, into `out` (D × k).
   void embed(Index position, const Eigen::Ref<const MatrixX>& controls,
              Eigen::Ref<MatrixX> out) const;
+  // Column j of the optima: u0(x) of the full twin, its controlled entries u0_S(x), and z*(x).
+  void store_optimum(Index j, const VectorX& full, double z_star);
 
   AnyTwin twin_;
   std::vector<Index> locators_;
