@@ -121,3 +121,26 @@ TEST(CholeskyFactor, FixedSizeTwoUpdateAndDowndate) {
 
 }  // namespace
 }  // namespace twincal
+
+namespace twincal {
+namespace {
+
+// The in-place kernel at a run-time size: the member's result, and the failing column reported
+// instead of thrown.
+TEST(RankOneUpdateInPlace, MatchesTheMemberAndReportsTheFailingColumn) {
+  const Eigen::MatrixXd start = lower_factor();
+  const Eigen::VectorXd v = Eigen::Vector3d(0.2, 0.1, -0.3);
+  CholeskyFactor<Dynamic> factor{start};
+  factor.rank_one_update(v, -0.5);
+  Eigen::MatrixXd lower = start;
+  Eigen::VectorXd x = std::sqrt(0.5) * v;
+  EXPECT_EQ(rank_one_update_in_place(lower, x, -1.0), -1);
+  EXPECT_EQ(lower, factor.lower());
+
+  Eigen::MatrixXd failing = start;
+  Eigen::VectorXd large = Eigen::Vector3d(0.0, 10.0, 0.0);  // column 0 survives, column 1 not
+  EXPECT_EQ(rank_one_update_in_place(failing, large, -1.0), 1);
+}
+
+}  // namespace
+}  // namespace twincal

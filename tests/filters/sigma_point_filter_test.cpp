@@ -3,57 +3,18 @@
 // guarantee, the safeguards, JSON save/restore and allocation-free steps.
 #include "twincal/filters/sigma_point_filter.hpp"
 
-#include <atomic>
-#include <cstdlib>
 #include <iostream>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "allocation_counting.hpp"
 #include "golden_runs.hpp"
 #include "test_models.hpp"
 #include "twincal/filters/cubature_kalman_filter.hpp"
 #include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
 #include "twincal/filters/unscented_kalman_filter.hpp"
 #include "twincal/models/random_walk.hpp"
-
-// --- allocation counting -----------------------------------------------------------------------
-// Eigen allocates with malloc, so malloc itself is interposed (glibc's is reached through
-// __libc_malloc). Sanitizers interpose malloc themselves; the allocation test is skipped there
-// (GCC announces ASan with __SANITIZE_ADDRESS__, Clang 14 only through __has_feature).
-#if defined(__SANITIZE_ADDRESS__)
-#define TWINCAL_ADDRESS_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define TWINCAL_ADDRESS_SANITIZER 1
-#endif
-#endif
-#if defined(TWINCAL_ADDRESS_SANITIZER)
-#define TWINCAL_COUNT_ALLOCATIONS 0
-#else
-#define TWINCAL_COUNT_ALLOCATIONS 1
-namespace {
-std::atomic<bool> counting_allocations{false};
-std::atomic<long> allocations{0};
-}  // namespace
-extern "C" {
-void* __libc_malloc(std::size_t size);
-void* __libc_calloc(std::size_t count, std::size_t size);
-void* __libc_realloc(void* pointer, std::size_t size);
-void* malloc(std::size_t size) {
-  if (counting_allocations.load(std::memory_order_relaxed)) allocations.fetch_add(1);
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) {
-  if (counting_allocations.load(std::memory_order_relaxed)) allocations.fetch_add(1);
-  return __libc_calloc(count, size);
-}
-void* realloc(void* pointer, std::size_t size) {
-  if (counting_allocations.load(std::memory_order_relaxed)) allocations.fetch_add(1);
-  return __libc_realloc(pointer, size);
-}
-}
-#endif
 
 namespace twincal {
 namespace {
@@ -465,30 +426,20 @@ TEST(SigmaPointFilterSafeguards, JosephFormAndSymmetrizationAgreeWithThePlainFor
 
 template <typename Filter, typename Inputs>
 long allocations_in_steps(Filter& filter, const Inputs& inputs) {
-#if TWINCAL_COUNT_ALLOCATIONS
   filter.predict();  // warm up
   filter.update(0.2, inputs);
   typename Filter::Preview kept = filter.preview(inputs);
-  allocations.store(0);
-  counting_allocations.store(true);
-  for (int t = 0; t < 10; ++t) {
-    filter.predict();
-    filter.update(0.2 + 0.001 * t, inputs);
-    filter.preview(inputs, kept);  // a controller's loop over candidates
-  }
-  counting_allocations.store(false);
-  return allocations.load();
-#else
-  (void)filter;
-  (void)inputs;
-  return -1;
-#endif
+  return test_support::allocations_in([&] {
+    for (int t = 0; t < 10; ++t) {
+      filter.predict();
+      filter.update(0.2 + 0.001 * t, inputs);
+      filter.preview(inputs, kept);  // a controller's loop over candidates
+    }
+  });
 }
 
 TEST(SigmaPointFilter, StepsDoNotAllocateAfterTheFirstAtAnySize) {
-#if !TWINCAL_COUNT_ALLOCATIONS
-  GTEST_SKIP() << "malloc is interposed by the sanitizer";
-#else
+  if (!test_support::counts_allocations()) GTEST_SKIP() << "malloc is interposed by the sanitizer";
   SigmaPointFilterOptions reuse;
   reuse.refresh = SigmaPointRefresh::reuse_propagated;
   SigmaPointFilterOptions joseph;
@@ -506,7 +457,6 @@ TEST(SigmaPointFilter, StepsDoNotAllocateAfterTheFirstAtAnySize) {
   // The counter sees Eigen's heap: the Joseph form's temporaries at Dynamic size do allocate.
   Ukf<Dynamic> dynamic_joseph = make_ukf<Dynamic>(joseph);
   EXPECT_GT(allocations_in_steps(dynamic_joseph, dynamic_inputs), 0);
-#endif
 }
 
 }  // namespace

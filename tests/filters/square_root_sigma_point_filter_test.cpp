@@ -1,6 +1,6 @@
 // SquareRootSigmaPointFilter: agreement with the reference runs (both update forms), the
 // time update with negative weights, a near-singular case where the standard form fails and the
-// square-root form does not, preview/commit and JSON save/restore.
+// square-root form does not, preview/commit, JSON save/restore and allocation-free steps.
 #include "twincal/filters/square_root_sigma_point_filter.hpp"
 
 #include <iostream>
@@ -8,6 +8,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "allocation_counting.hpp"
 #include "golden_runs.hpp"
 #include "test_models.hpp"
 #include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
@@ -163,14 +164,13 @@ using SquareRootUkf = SquareRootSigmaPointFilter<RandomWalk<N>, QuadraticQuality
                                                  MerweScaledSigmaPoints>;
 
 template <int N>
-SquareRootUkf<N> make_filter() {
+SquareRootUkf<N> make_filter(SquareRootFilterOptions options = {SigmaPointRefresh::reuse_propagated,
+                                                                SquareRootUpdate::joseph}) {
   const nlohmann::json data = golden::load("filter_runs_1.4.5.json");
   const nlohmann::json& run = data["runs"][4];
-  return SquareRootUkf<N>(
-      golden::process_model<N>(run), golden::measurement_model<N>(run),
-      MerweScaledSigmaPoints{0.1, 2.0, 0.0}, golden::vector<N>(run["x0"]),
-      SquareMatrix<N>(golden::matrix<N, N>(run["P0"])),
-      SquareRootFilterOptions{SigmaPointRefresh::reuse_propagated, SquareRootUpdate::joseph});
+  return SquareRootUkf<N>(golden::process_model<N>(run), golden::measurement_model<N>(run),
+                          MerweScaledSigmaPoints{0.1, 2.0, 0.0}, golden::vector<N>(run["x0"]),
+                          SquareMatrix<N>(golden::matrix<N, N>(run["P0"])), options);
 }
 
 template <int N>
@@ -228,6 +228,82 @@ TEST(SquareRootSigmaPointFilter, SaveRestoreRoundTripsBitExactly) {
               ::testing::ThrowsMessage<InvalidArgumentError>(
                   HasSubstr("entry (0, 1) above the diagonal is 0.5")));
   EXPECT_EQ(restored.factor(), before.factor());
+}
+
+// --- allocation ------------------------------------------------------------------------------
+
+// Predict + update allocate nothing after the first step at any size, in every refresh and
+// update form (Merwe α = 0.1 has a negative centre weight, so predict's downdate runs too);
+// a preview into a kept one allocates nothing at fixed size.
+TEST(SquareRootSigmaPointFilter, StepsDoNotAllocateAfterTheFirstAtAnySize) {
+  if (!test_support::counts_allocations()) {
+    GTEST_SKIP() << "malloc is interposed by the sanitizer";
+  }
+  for (const SigmaPointRefresh refresh :
+       {SigmaPointRefresh::redraw, SigmaPointRefresh::reuse_propagated}) {
+    for (const SquareRootUpdate update : {SquareRootUpdate::joseph, SquareRootUpdate::downdate}) {
+      const SquareRootFilterOptions options{refresh, update};
+      SquareRootUkf<3> fixed = make_filter<3>(options);
+      SquareRootUkf<Dynamic> dynamic = make_filter<Dynamic>(options);
+      const auto fixed_inputs = inputs_at<3>(1);
+      const auto dynamic_inputs = inputs_at<Dynamic>(1);
+      fixed.predict();  // warm up
+      fixed.update(0.25, fixed_inputs);
+      dynamic.predict();
+      dynamic.update(0.25, dynamic_inputs);
+      auto kept = fixed.preview(fixed_inputs);
+      EXPECT_EQ(test_support::allocations_in([&] {
+                  for (int t = 0; t < 10; ++t) {
+                    fixed.predict();
+                    fixed.update(0.25 + 0.001 * t, fixed_inputs);
+                    fixed.preview(fixed_inputs, kept);
+                  }
+                }),
+                0);
+      EXPECT_EQ(test_support::allocations_in([&] {
+                  for (int t = 0; t < 10; ++t) {
+                    dynamic.predict();
+                    dynamic.update(0.25 + 0.001 * t, dynamic_inputs);
+                  }
+                }),
+                0);
+    }
+  }
+}
+
+// A random walk whose Q the test changes between predicts.
+struct AdjustableWalk {
+  static constexpr int dimension_at_compile_time = Dynamic;
+  const Eigen::MatrixXd* noise;
+  [[nodiscard]] Index dimension() const { return noise->rows(); }
+  [[nodiscard]] const Eigen::VectorXd& propagate(const Eigen::VectorXd& x) const { return x; }
+  [[nodiscard]] const Eigen::MatrixXd& process_noise() const { return *noise; }
+};
+
+// √Q is cached between predicts; a Q that changes is factored again.
+TEST(SquareRootSigmaPointFilter, RefactorsTheProcessNoiseWhenItChanges) {
+  using Filter = SquareRootSigmaPointFilter<AdjustableWalk, QuadraticQualityMeasurement<Dynamic>,
+                                            MerweScaledSigmaPoints>;
+  Eigen::MatrixXd cached = 1e-3 * Eigen::MatrixXd::Identity(3, 3);
+  Eigen::MatrixXd fresh = cached;
+  const QuadraticQualityMeasurement<Dynamic> measurement(Eigen::MatrixXd::Identity(3, 3), 0.04,
+                                                         1e-4);
+  const Eigen::VectorXd x0 = Eigen::Vector3d(0.01, -0.02, 0.005);
+  const Eigen::MatrixXd p0 = 2e-3 * Eigen::MatrixXd::Identity(3, 3);
+  Filter a(AdjustableWalk{&cached}, measurement, MerweScaledSigmaPoints{0.5, 2.0, 0.0}, x0, p0);
+  Filter b(AdjustableWalk{&fresh}, measurement, MerweScaledSigmaPoints{0.5, 2.0, 0.0}, x0, p0);
+  const nlohmann::json start = a.save();
+  a.predict();  // factors √Q of the first Q and keeps it
+  const Eigen::MatrixXd with_first_noise = a.factor();
+  a.restore(start);
+  for (Eigen::MatrixXd* q : {&cached, &fresh}) {
+    (*q)(1, 1) = 5e-3;
+    (*q)(0, 1) = (*q)(1, 0) = 1e-3;
+  }
+  a.predict();
+  b.predict();
+  EXPECT_EQ(a.factor(), b.factor());
+  EXPECT_NE(a.factor(), with_first_noise);
 }
 
 }  // namespace

@@ -15,6 +15,35 @@
 
 namespace twincal {
 
+/// The rank-one kernel behind CholeskyFactor::rank_one_update, for callers that keep their own
+/// buffers (filters at run-time sizes): turns the lower factor `lower` of P into that of
+/// P + sign·x xᵀ (sign = +1 or −1), using `x` as scratch. Returns −1, or the column at which a
+/// downdate lost definiteness; `lower` and `x` are then partly updated, so callers that must
+/// stay unchanged on failure pass copies. O(n²), allocates nothing.
+template <int N>
+[[nodiscard]] Index rank_one_update_in_place(SquareMatrix<N>& lower, Vector<N>& x,
+                                             double sign) noexcept {
+  const Index n = lower.rows();
+  for (Index k = 0; k < n; ++k) {
+    const double lkk = lower(k, k);
+    const double radicand = lkk * lkk + sign * x(k) * x(k);
+    if (!(radicand > 0.0)) return k;
+    const double r = std::sqrt(radicand);
+    const double c = r / lkk;
+    const double s = x(k) / lkk;
+    const double inverse_c = lkk / r;  // one division per column, not one per entry
+    lower(k, k) = r;
+    // Scalar loop rather than tail blocks: GCC 12 misreads vectorized size-2 tails as out of
+    // bounds (-Warray-bounds), and the update is O(n) per column either way.
+    for (Index j = k + 1; j < n; ++j) {
+      const double l = (lower(j, k) + sign * s * x(j)) * inverse_c;
+      lower(j, k) = l;
+      x(j) = c * x(j) - s * l;
+    }
+  }
+  return -1;
+}
+
 /// Lower-triangular L with a positive diagonal, so that L Lᵀ is positive definite.
 /// Invariant checked on construction and kept by every operation (a failing operation throws
 /// and leaves the factor unchanged).
@@ -66,36 +95,20 @@ class CholeskyFactor {
     require_finite("v", v);
     require_finite("sigma", sigma);
     if (sigma == 0.0) return;
-    const double sign = sigma > 0.0 ? 1.0 : -1.0;
     VectorType x = std::sqrt(std::abs(sigma)) * v;
     MatrixType updated = lower_;
-    const Index n = dimension();
-    for (Index k = 0; k < n; ++k) {
-      const double lkk = updated(k, k);
-      const double radicand = lkk * lkk + sign * x(k) * x(k);
-      if (!(radicand > 0.0)) {
-        // Failure path only: the eigenvalue tells the caller how far from definite it got.
-        const MatrixType target = covariance() + sigma * (v * v.transpose());
-        const double lambda_min = smallest_eigenvalue(target);
-        throw NotPositiveDefiniteError(
-            "L",
-            fmt::format("L: rank-one downdate by sigma = {:.6g} fails at column {}: L Lᵀ + "
-                        "sigma v vᵀ has smallest eigenvalue {:.6g}; rule: the result must stay "
-                        "positive definite",
-                        sigma, k, lambda_min),
-            lambda_min);
-      }
-      const double r = std::sqrt(radicand);
-      const double c = r / lkk;
-      const double s = x(k) / lkk;
-      updated(k, k) = r;
-      // Scalar loop rather than tail blocks: GCC 12 misreads vectorized size-2 tails as out of
-      // bounds (-Warray-bounds), and the update is O(n) per column either way.
-      for (Index j = k + 1; j < n; ++j) {
-        const double l = (updated(j, k) + sign * s * x(j)) / c;
-        updated(j, k) = l;
-        x(j) = c * x(j) - s * l;
-      }
+    const Index failed = rank_one_update_in_place(updated, x, sigma > 0.0 ? 1.0 : -1.0);
+    if (failed >= 0) {
+      // Failure path only: the eigenvalue tells the caller how far from definite it got.
+      const MatrixType target = covariance() + sigma * (v * v.transpose());
+      const double lambda_min = smallest_eigenvalue(target);
+      throw NotPositiveDefiniteError(
+          "L",
+          fmt::format("L: rank-one downdate by sigma = {:.6g} fails at column {}: L Lᵀ + "
+                      "sigma v vᵀ has smallest eigenvalue {:.6g}; rule: the result must stay "
+                      "positive definite",
+                      sigma, failed, lambda_min),
+          lambda_min);
     }
     lower_ = updated;
   }

@@ -123,6 +123,7 @@ requires(SM::dimension_at_compile_time ==
     x_ = initial_state;
     L_ = initial_factor.lower();
     points_.resize(n, m);
+    workspace_.resize(n, m);
     scheme_.generate(x_, L_, points_);
     last_update_.gain = StateVector::Zero(n);
   }
@@ -139,9 +140,10 @@ requires(SM::dimension_at_compile_time ==
 
   // --- the filter --------------------------------------------------------------------------
 
-  /// Time update in factored form. @throws NonFiniteError, DimensionMismatchError,
-  /// NotPositiveDefiniteError (the factor lost definiteness: a negative-weight downdate failed
-  /// or the stacked matrix is rank deficient).
+  /// Time update in factored form. √Q is factored once and reused while Q stays the same.
+  /// @throws NonFiniteError, DimensionMismatchError, NotPositiveDefiniteError (the factor lost
+  ///         definiteness: a negative-weight downdate failed or the stacked matrix is rank
+  ///         deficient).
   void predict() {
     const Index n = dimension();
     const Index m = num_points();
@@ -149,51 +151,62 @@ requires(SM::dimension_at_compile_time ==
     require_shape("process_noise", process_noise, n, n);
     require_finite("process_noise", process_noise);
 
-    PointMatrix propagated(n, m);
-    StateVector point(n);
-    propagate_points(state_model_, points_, propagated, point);
-    StateVector prior_mean(n);
-    prior_mean.noalias() = propagated * mean_weights_;
-    const PointMatrix centred = propagated.colwise() - prior_mean;
+    // Into the workspace first: the state changes only once nothing can throw.
+    Workspace& w = workspace_;
+    propagate_points(state_model_, points_, w.propagated, w.state);
+    w.mean.noalias() = w.propagated * mean_weights_;
+    w.centred = w.propagated.colwise() - w.mean;
 
     // Rows of the stacked matrix whose Gram matrix is P⁻ (negative weights: zero rows, handled
     // by downdates below).
-    Stacked stacked = Stacked::Zero(m + n, n);
     for (Index i = 0; i < m; ++i) {
       if (covariance_weights_(i) > 0.0) {
-        stacked.row(i) = std::sqrt(covariance_weights_(i)) * centred.col(i).transpose();
+        w.stacked.row(i) = std::sqrt(covariance_weights_(i)) * w.centred.col(i).transpose();
+      } else {
+        w.stacked.row(i).setZero();
       }
     }
     // Fixed-size blocks where the size is known: GCC 12 misreads dynamic blocks of tiny fixed
     // matrices as out of bounds (-Warray-bounds).
     if constexpr (N != Dynamic) {
-      stacked.template bottomRows<N>() = noise_square_root(process_noise).transpose();
+      w.stacked.template bottomRows<N>() = noise_root_transposed(process_noise);
     } else {
-      stacked.bottomRows(n) = noise_square_root(process_noise).transpose();
+      w.stacked.bottomRows(n) = noise_root_transposed(process_noise);
     }
-    FactorType factor(triangular_factor(stacked, "prior factor"));
+    w.qr.compute(w.stacked);
+    triangular_factor(w.qr, w.factor, "prior factor");
     for (Index i = 0; i < m; ++i) {
-      if (covariance_weights_(i) < 0.0)
-        factor.rank_one_update(centred.col(i), covariance_weights_(i));
+      if (covariance_weights_(i) < 0.0) {
+        w.update.column = std::sqrt(-covariance_weights_(i)) * w.centred.col(i);
+        const Index failed = rank_one_update_in_place(w.factor, w.update.column, -1.0);
+        if (failed >= 0) throw_lost_prior_definiteness(process_noise, i, failed);
+      }
     }
 
     if (options_.refresh == SigmaPointRefresh::redraw) {
-      PointMatrix redrawn(n, m);
-      scheme_.generate(prior_mean, factor.lower(), redrawn);
-      points_ = redrawn;
+      scheme_.generate(w.mean, w.factor, points_);
     } else {
-      points_ = propagated;
+      points_.swap(w.propagated);
     }
-    x_ = prior_mean;
-    L_ = factor.lower();
+    x_.swap(w.mean);
+    L_.swap(w.factor);
     ++revision_;
   }
 
   /// As SigmaPointFilter::preview(inputs).
   [[nodiscard]] Preview preview(const Inputs& inputs) const {
-    WeightVector values(num_points());
-    evaluate_measurements(measurement_model_, points_, inputs, values);
-    return preview(values);
+    Preview p;
+    preview(inputs, p);
+    return p;
+  }
+
+  /// preview(inputs) into `out` (as SigmaPointFilter's): at fixed sizes it allocates nothing; at
+  /// run-time sizes the factored update's scratch is allocated per call. @throws as
+  /// preview(inputs); `out` is then unspecified.
+  void preview(const Inputs& inputs, Preview& out) const {
+    out.measurements.resize(num_points());
+    evaluate_measurements(measurement_model_, points_, inputs, out.measurements);
+    preview(out.measurements, out);
   }
 
   /// As SigmaPointFilter::preview(values); the posterior factor comes from the factored update
@@ -201,38 +214,17 @@ requires(SM::dimension_at_compile_time ==
   /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError.
   template <typename Derived>
   [[nodiscard]] Preview preview(const Eigen::MatrixBase<Derived>& values) const {
-    const Index n = dimension();
     Preview p;
-    measurement_statistics(points_, x_, mean_weights_, covariance_weights_, values,
-                           measurement_model_.noise_variance(), p);
-    if (options_.update == SquareRootUpdate::downdate) {
-      FactorType factor(L_);
-      const StateVector column = p.gain * std::sqrt(p.innovation_variance);
-      factor.rank_one_update(column, -1.0);
-      p.posterior_factor = factor.lower();
-    } else {
-      // H = P⁻¹ Pxz = L⁻ᵀ L⁻¹ Pxz; Hᵀ P H = |L⁻¹ Pxz|².
-      StateVector whitened = p.cross_covariance;
-      L_.template triangularView<Eigen::Lower>().solveInPlace(whitened);
-      StateVector h = whitened;
-      L_.transpose().template triangularView<Eigen::Upper>().solveInPlace(h);
-      const double linearisation = p.measurement_variance - whitened.squaredNorm();
-      const double effective_noise =
-          measurement_model_.noise_variance() + std::max(linearisation, 0.0);
-      CovarianceMatrix a = CovarianceMatrix::Identity(n, n);
-      a.noalias() -= p.gain * h.transpose();
-      JosephStacked stacked(n + 1, n);
-      if constexpr (N != Dynamic) {
-        stacked.template topRows<N>().noalias() = (a * L_).transpose();
-      } else {
-        stacked.topRows(n).noalias() = (a * L_).transpose();
-      }
-      stacked.row(n) = std::sqrt(effective_noise) * p.gain.transpose();
-      p.posterior_factor = triangular_factor(stacked, "posterior factor");
-    }
-    p.posterior_covariance.noalias() = p.posterior_factor * p.posterior_factor.transpose();
-    p.revision = revision_;
+    preview(values, p);
     return p;
+  }
+
+  /// preview(values) into `out`. @throws as preview(values); `out` is then unspecified.
+  template <typename Derived>
+  void preview(const Eigen::MatrixBase<Derived>& values, Preview& out) const {
+    UpdateScratch scratch;
+    scratch.resize(dimension());
+    fill_preview(values, out, scratch, /*form_covariance=*/true);
   }
 
   /// As SigmaPointFilter::commit.
@@ -246,15 +238,14 @@ requires(SM::dimension_at_compile_time ==
     }
     require_finite("z", z);
     const double innovation = z - preview.predicted_measurement;
-    StateVector posterior_mean = x_;
+    StateVector& posterior_mean = workspace_.mean;
+    posterior_mean = x_;
     posterior_mean.noalias() += preview.gain * innovation;
     require_finite("posterior state", posterior_mean);
-    PointMatrix next(dimension(), num_points());
-    scheme_.generate(posterior_mean, preview.posterior_factor, next);
 
-    x_ = posterior_mean;
+    x_.swap(posterior_mean);
     L_ = preview.posterior_factor;
-    points_ = next;
+    scheme_.generate(x_, L_, points_);
     last_update_.innovation = innovation;
     last_update_.innovation_variance = preview.innovation_variance;
     last_update_.gain = preview.gain;
@@ -262,10 +253,15 @@ requires(SM::dimension_at_compile_time ==
     ++updates_;
   }
 
-  /// `commit(preview(inputs), z)`.
+  /// `commit(preview(inputs), z)` through buffers kept by the filter: no allocation per step
+  /// after the first at any size, and P⁺ = L⁺ L⁺ᵀ, which the commit does not need, is not formed.
   void update(double z, const Inputs& inputs) {
-    require_finite("z", z);
-    commit(preview(inputs), z);
+    require_finite("z", z);  // before spending evaluations on a measurement that cannot be used
+    Preview& p = workspace_.preview;
+    p.measurements.resize(num_points());
+    evaluate_measurements(measurement_model_, points_, inputs, p.measurements);
+    fill_preview(p.measurements, p, workspace_.update, /*form_covariance=*/false);
+    commit(p, z);
   }
 
   // --- state ---------------------------------------------------------------------------------
@@ -340,27 +336,121 @@ requires(SM::dimension_at_compile_time ==
     return cholesky(covariance, CholeskyOptions{}, "initial_covariance").factor;
   }
 
-  // A B with B Bᵀ = Q: the Cholesky factor, or V·√max(Λ, 0) for a singular Q.
-  [[nodiscard]] static CovarianceMatrix noise_square_root(const CovarianceMatrix& q) {
-    const Eigen::LLT<CovarianceMatrix> llt(q);
-    if (llt.info() == Eigen::Success) {
-      CovarianceMatrix lower = llt.matrixL();
-      if ((lower.diagonal().array() > 0.0).all()) return lower;
+  // Buffers of one factored measurement update (see fill_preview).
+  struct UpdateScratch {
+    void resize(Index n) {
+      column.resize(n);
+      whitened.resize(n);
+      linearisation.resize(n);
+      transition.resize(n, n);
+      stacked.resize(n + 1, n);
+      qr = Eigen::HouseholderQR<JosephStacked>(n + 1, n);
     }
-    const Eigen::SelfAdjointEigenSolver<CovarianceMatrix> eigen(q);
-    CovarianceMatrix root =
-        eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
-    return root;
+    StateVector column;
+    StateVector whitened;
+    StateVector linearisation;
+    CovarianceMatrix transition;
+    JosephStacked stacked;
+    Eigen::HouseholderQR<JosephStacked> qr;
+  };
+
+  // Buffers of predict and update, sized at construction: reused, they make the steps
+  // allocation-free at run-time sizes too. Not state: copies and restore() need not match them.
+  // They also cache √Q, refactored only when the state model's Q changes.
+  struct Workspace {
+    void resize(Index n, Index m) {
+      propagated.resize(n, m);
+      centred.resize(n, m);
+      state.resize(n);
+      mean.resize(n);
+      stacked.resize(m + n, n);
+      qr = Eigen::HouseholderQR<Stacked>(m + n, n);
+      factor.resize(n, n);
+      update.resize(n);
+      has_noise_root = false;
+    }
+    PointMatrix propagated;
+    PointMatrix centred;
+    StateVector state;
+    StateVector mean;
+    Stacked stacked;
+    Eigen::HouseholderQR<Stacked> qr;
+    CovarianceMatrix factor;
+    UpdateScratch update;
+    Preview preview;
+    bool has_noise_root = false;
+    CovarianceMatrix noise;                  // the Q that noise_root_transposed belongs to
+    CovarianceMatrix noise_root_transposed;  // Bᵀ with B Bᵀ = Q
+  };
+
+  // Bᵀ for the stacked matrix, with B B^T = Q: the Cholesky factor, or V·√max(Λ, 0) for a
+  // singular Q. Cached: a random walk's Q never changes, and re-factoring it was a tenth of a
+  // predict at n = 12.
+  const CovarianceMatrix& noise_root_transposed(const CovarianceMatrix& q) {
+    Workspace& w = workspace_;
+    if (w.has_noise_root && w.noise.rows() == q.rows() && w.noise == q) {
+      return w.noise_root_transposed;
+    }
+    const Eigen::LLT<CovarianceMatrix> llt(q);
+    if (llt.info() == Eigen::Success && (llt.matrixLLT().diagonal().array() > 0.0).all()) {
+      w.noise_root_transposed = llt.matrixU();
+    } else {
+      const Eigen::SelfAdjointEigenSolver<CovarianceMatrix> eigen(q);
+      w.noise_root_transposed =
+          (eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal())
+              .transpose();
+    }
+    w.noise = q;
+    w.has_noise_root = true;
+    return w.noise_root_transposed;
   }
 
-  // The lower factor L with L Lᵀ = AᵀA from A's QR (R's rows, signs fixed so diag(L) > 0).
-  template <typename Stack>
-  [[nodiscard]] CovarianceMatrix triangular_factor(const Stack& stacked,
-                                                   std::string_view name) const {
+  // The z-independent factored update for `values` (may be p.measurements itself) into `p`,
+  // with `s` as scratch; P⁺ = L⁺ L⁺ᵀ only when asked for (previews, not update()).
+  template <typename Derived>
+  void fill_preview(const Eigen::MatrixBase<Derived>& values, Preview& p, UpdateScratch& s,
+                    bool form_covariance) const {
     const Index n = dimension();
-    const Eigen::HouseholderQR<Stack> qr(stacked);
-    CovarianceMatrix lower =
-        qr.matrixQR().topRows(n).template triangularView<Eigen::Upper>().transpose();
+    measurement_statistics(points_, x_, mean_weights_, covariance_weights_, values,
+                           measurement_model_.noise_variance(), p);
+    if (options_.update == SquareRootUpdate::downdate) {
+      p.posterior_factor = L_;
+      s.column = std::sqrt(p.innovation_variance) * p.gain;
+      const Index failed = rank_one_update_in_place(p.posterior_factor, s.column, -1.0);
+      if (failed >= 0) throw_lost_posterior_definiteness(p, failed);
+    } else {
+      // H = P⁻¹ Pxz = L⁻ᵀ L⁻¹ Pxz; Hᵀ P H = |L⁻¹ Pxz|².
+      s.whitened = p.cross_covariance;
+      L_.template triangularView<Eigen::Lower>().solveInPlace(s.whitened);
+      s.linearisation = s.whitened;
+      L_.transpose().template triangularView<Eigen::Upper>().solveInPlace(s.linearisation);
+      const double linearisation_error = p.measurement_variance - s.whitened.squaredNorm();
+      const double effective_noise =
+          measurement_model_.noise_variance() + std::max(linearisation_error, 0.0);
+      s.transition.setIdentity();
+      s.transition.noalias() -= p.gain * s.linearisation.transpose();
+      // ((I − K Hᵀ) L⁻)ᵀ = L⁻ᵀ (I − K Hᵀ)ᵀ
+      if constexpr (N != Dynamic) {
+        s.stacked.template topRows<N>().noalias() = L_.transpose() * s.transition.transpose();
+      } else {
+        s.stacked.topRows(n).noalias() = L_.transpose() * s.transition.transpose();
+      }
+      s.stacked.row(n) = std::sqrt(effective_noise) * p.gain.transpose();
+      s.qr.compute(s.stacked);
+      triangular_factor(s.qr, p.posterior_factor, "posterior factor");
+    }
+    if (form_covariance) {
+      p.posterior_covariance.noalias() = p.posterior_factor * p.posterior_factor.transpose();
+    }
+    p.revision = revision_;
+  }
+
+  // The lower factor L with L Lᵀ = AᵀA from A's QR (R's rows, signs fixed so diag(L) > 0),
+  // into `lower`. @throws NotPositiveDefiniteError (rank deficient), NonFiniteError.
+  template <typename QR>
+  void triangular_factor(const QR& qr, CovarianceMatrix& lower, std::string_view name) const {
+    const Index n = dimension();
+    lower = qr.matrixQR().topRows(n).template triangularView<Eigen::Upper>().transpose();
     for (Index k = 0; k < n; ++k) {
       if (lower(k, k) < 0.0) lower.col(k) = -lower.col(k);
       if (!(lower(k, k) > 0.0)) {
@@ -372,7 +462,41 @@ requires(SM::dimension_at_compile_time ==
             0.0);
       }
     }
-    return lower;
+    require_finite(name, lower);
+  }
+
+  // Failure paths of the downdates (cold): the covariance the downdate was heading for, and
+  // its smallest eigenvalue, say how far from definite it got.
+  [[gnu::cold, gnu::noinline, noreturn]] void throw_lost_prior_definiteness(
+      const CovarianceMatrix& process_noise, Index point, Index column) const {
+    const Workspace& w = workspace_;
+    CovarianceMatrix target = process_noise;
+    for (Index i = 0; i < num_points(); ++i) {
+      target.noalias() +=
+          covariance_weights_(i) * (w.centred.col(i) * w.centred.col(i).transpose());
+    }
+    const double lambda_min = smallest_eigenvalue(target);
+    throw NotPositiveDefiniteError(
+        "prior factor",
+        fmt::format("prior factor: rank-one downdate by sigma point {} (weight {:.6g}) fails at "
+                    "column {}: the predicted covariance has smallest eigenvalue {:.6g}; rule: "
+                    "it must stay positive definite",
+                    point, covariance_weights_(point), column, lambda_min),
+        lambda_min);
+  }
+
+  [[gnu::cold, gnu::noinline, noreturn]] void throw_lost_posterior_definiteness(
+      const Preview& p, Index column) const {
+    CovarianceMatrix target = L_ * L_.transpose();
+    target.noalias() -= p.innovation_variance * (p.gain * p.gain.transpose());
+    const double lambda_min = smallest_eigenvalue(target);
+    throw NotPositiveDefiniteError(
+        "posterior factor",
+        fmt::format("posterior factor: rank-one downdate by K√S fails at column {}: P⁻ − K S Kᵀ "
+                    "has smallest eigenvalue {:.6g}; rule: it must stay positive definite (the "
+                    "joseph update always does)",
+                    column, lambda_min),
+        lambda_min);
   }
 
   SM state_model_;
@@ -385,6 +509,7 @@ requires(SM::dimension_at_compile_time ==
   CovarianceMatrix L_;
   PointMatrix points_;
   Record last_update_;
+  Workspace workspace_;
   std::uint64_t updates_ = 0;
   std::uint64_t revision_ = 0;
 };
