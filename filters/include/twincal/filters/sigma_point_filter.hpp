@@ -171,7 +171,8 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   void preview(const Inputs& inputs, Preview& out) const {
     out.measurements.resize(num_points());
     evaluate_measurements(measurement_model_, points_, inputs, out.measurements);
-    fill_preview(out.measurements, out);
+    JosephScratch scratch;
+    fill_preview(out.measurements, out, scratch);
   }
 
   /// The update given the measurement values γ_i = h(χ_i) at `sigma_points()` (e.g. from a
@@ -181,7 +182,8 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   template <typename Derived>
   [[nodiscard]] Preview preview(const Eigen::MatrixBase<Derived>& values) const {
     Preview p;
-    fill_preview(values, p);
+    JosephScratch scratch;
+    fill_preview(values, p, scratch);
     return p;
   }
 
@@ -189,7 +191,8 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   /// @throws as preview(values); `out` is then unspecified.
   template <typename Derived>
   void preview(const Eigen::MatrixBase<Derived>& values, Preview& out) const {
-    fill_preview(values, out);
+    JosephScratch scratch;
+    fill_preview(values, out, scratch);
   }
 
   /// Completes a previewed update with the measurement z: x⁺ = x⁻ + K (z − ẑ), P⁺ from the
@@ -224,8 +227,11 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   /// kept by the filter (no allocation per step after the first, at any size).
   void update(double z, const Inputs& inputs) {
     require_finite("z", z);  // before spending evaluations on a measurement that cannot be used
-    preview(inputs, workspace_.preview);
-    commit(workspace_.preview, z);
+    Preview& p = workspace_.preview;
+    p.measurements.resize(num_points());
+    evaluate_measurements(measurement_model_, points_, inputs, p.measurements);
+    fill_preview(p.measurements, p, workspace_.joseph);
+    commit(p, z);
   }
 
   // --- state ---------------------------------------------------------------------------------
@@ -294,6 +300,21 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   }
 
  private:
+  // Buffers of the Joseph-form posterior, sized when first used: the update's are kept in the
+  // workspace, a const preview's are its own (empty, so free, unless the Joseph form is on).
+  struct JosephScratch {
+    void resize(Index n) {
+      factor.resize(n, n);
+      linearisation.resize(n);
+      transition.resize(n, n);
+      product.resize(n, n);
+    }
+    CovarianceMatrix factor;
+    StateVector linearisation;
+    CovarianceMatrix transition;
+    CovarianceMatrix product;
+  };
+
   // Buffers of predict and update, sized at construction: reused, they make the steps
   // allocation-free at Dynamic sizes too. Not state: copies and restore() need not match them.
   struct Workspace {
@@ -305,6 +326,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
       mean.resize(n);
       covariance.resize(n, n);
       factor.resize(n, n);
+      joseph.resize(n);
     }
     PointMatrix propagated;
     PointMatrix centred;
@@ -313,6 +335,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     StateVector mean;
     CovarianceMatrix covariance;
     CovarianceMatrix factor;
+    JosephScratch joseph;
     Preview preview;
   };
 
@@ -324,13 +347,14 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     scheme_.generate(mean, workspace_.factor, points_);
   }
 
-  // The z-independent update for `values` (may be p.measurements itself) into `p`.
+  // The z-independent update for `values` (may be p.measurements itself) into `p`, with `s`
+  // as the Joseph form's scratch.
   template <typename Derived>
-  void fill_preview(const Eigen::MatrixBase<Derived>& values, Preview& p) const {
+  void fill_preview(const Eigen::MatrixBase<Derived>& values, Preview& p, JosephScratch& s) const {
     measurement_statistics(points_, x_, mean_weights_, covariance_weights_, values,
                            measurement_model_.noise_variance(), p);
     if (options_.joseph_form) {
-      p.posterior_covariance = joseph_posterior(p);
+      joseph_posterior(p, s);
     } else {
       p.posterior_covariance = P_;
       p.posterior_covariance.noalias() -= p.gain * (p.innovation_variance * p.gain.transpose());
@@ -342,10 +366,12 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   }
 
   // Joseph form with the statistically linearised measurement H = P⁻¹ Pxz (see
-  // SigmaPointFilterOptions::joseph_form).
-  [[nodiscard]] CovarianceMatrix joseph_posterior(const Preview& p) const {
-    const Index n = dimension();
-    const Eigen::LLT<CovarianceMatrix> llt(P_);
+  // SigmaPointFilterOptions::joseph_form), into p.posterior_covariance; allocates nothing once
+  // `s` is sized (P⁻ is factored in s.factor's own storage).
+  void joseph_posterior(Preview& p, JosephScratch& s) const {
+    s.resize(dimension());
+    s.factor = P_;
+    const Eigen::LLT<Eigen::Ref<CovarianceMatrix>> llt(s.factor);
     if (llt.info() != Eigen::Success) {
       const double lambda_min = smallest_eigenvalue(P_);
       throw NotPositiveDefiniteError(
@@ -355,16 +381,17 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
                       lambda_min),
           lambda_min);
     }
-    const StateVector h = llt.solve(p.cross_covariance);
-    const double linearisation = p.measurement_variance - p.cross_covariance.dot(h);
+    s.linearisation = p.cross_covariance;
+    llt.solveInPlace(s.linearisation);
+    const double linearisation_error =
+        p.measurement_variance - p.cross_covariance.dot(s.linearisation);
     const double effective_noise =
-        measurement_model_.noise_variance() + std::max(linearisation, 0.0);
-    CovarianceMatrix a = CovarianceMatrix::Identity(n, n);
-    a.noalias() -= p.gain * h.transpose();
-    CovarianceMatrix posterior(n, n);
-    posterior.noalias() = a * P_ * a.transpose();
-    posterior.noalias() += effective_noise * (p.gain * p.gain.transpose());
-    return posterior;
+        measurement_model_.noise_variance() + std::max(linearisation_error, 0.0);
+    s.transition.setIdentity();
+    s.transition.noalias() -= p.gain * s.linearisation.transpose();
+    s.product.noalias() = s.transition * P_;
+    p.posterior_covariance.noalias() = s.product * s.transition.transpose();
+    p.posterior_covariance.noalias() += effective_noise * (p.gain * p.gain.transpose());
   }
 
   SM state_model_;
