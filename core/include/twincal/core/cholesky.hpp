@@ -204,12 +204,13 @@ CholeskyReport cholesky_into(SquareMatrix<N>& matrix, SquareMatrix<N>& lower,
   require_square(name, matrix);
   lower.resize(matrix.rows(), matrix.cols());
   lower.template triangularView<Eigen::Lower>() = matrix;
-  // Eigen's in-place decomposition: LLT<Ref<…>> factors `lower`'s own storage.
-  const Eigen::LLT<Eigen::Ref<SquareMatrix<N>>, Eigen::Lower> in_place(lower);
-  // Positive and finite pivots: LLT passes NaN pivots and tiny ones that underflow to zero.
+  // Eigen's in-place kernel, the one LLT::compute runs, on `lower`'s own storage. LLT::compute
+  // would first take the matrix's L1 norm, which only rcond() reads: a tenth of a small
+  // filter's factorization. −1 means every pivot was positive.
+  const Index failed = Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(lower);
+  // Positive and finite pivots: the kernel passes NaN pivots and tiny ones that underflow to 0.
   constexpr double infinity = std::numeric_limits<double>::infinity();
-  if (in_place.info() == Eigen::Success &&
-      (lower.diagonal().array() > 0.0 && lower.diagonal().array() < infinity).all()) {
+  if (failed < 0 && (lower.diagonal().array() > 0.0 && lower.diagonal().array() < infinity).all()) {
     lower.template triangularView<Eigen::StrictlyUpper>().setZero();
     return CholeskyReport{};
   }
