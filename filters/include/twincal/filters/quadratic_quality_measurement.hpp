@@ -69,8 +69,9 @@ class QuadraticQualityMeasurement {
 
  private:
   // sqrt(q0 + eᵀHe) for an expression e, without touching the heap: e and He live in buffers
-  // on the stack up to kStackDimension entries (one matrix-vector product); beyond that, e is
-  // read entry by entry (n dot products, slower but still allocation-free).
+  // on the stack up to kStackDimension entries (one matrix-vector product, coefficient-based up
+  // to lazy_product_max_rows, where Eigen's GEMV set-up would cost more than the product);
+  // beyond that, e is read entry by entry (n dot products, slower but still allocation-free).
   static constexpr int kStackDimension = 64;
   using StackVector = Eigen::Matrix<double, N, 1, 0, (N == Dynamic ? kStackDimension : N), 1>;
 
@@ -80,7 +81,15 @@ class QuadraticQualityMeasurement {
     if (N != Dynamic || e.size() <= kStackDimension) {
       const StackVector error = e;
       StackVector weighted(e.size());
-      weighted.noalias() = weight_ * error;
+      if constexpr (N == Dynamic) {
+        if (e.size() <= lazy_product_max_rows) {
+          weighted.noalias() = weight_.lazyProduct(error);
+        } else {
+          weighted.noalias() = weight_ * error;
+        }
+      } else {
+        weighted.noalias() = weight_ * error;
+      }
       form = error.dot(weighted);
     } else {
       for (Index c = 0; c < weight_.cols(); ++c) form += e(c) * weight_.col(c).dot(e);

@@ -140,7 +140,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
     // Into the workspace first: the state changes only once nothing can throw.
     Workspace& w = workspace_;
     propagate_points(state_model_, points_, w.propagated, w.state);
-    w.mean.noalias() = w.propagated * mean_weights_;
+    weighted_mean(w.propagated, mean_weights_, w.mean);
     weighted_covariance(w.propagated, covariance_weights_, w.mean, w.centred, w.weighted,
                         w.covariance);
     w.covariance += process_noise;

@@ -154,7 +154,7 @@ requires(SM::dimension_at_compile_time ==
     // Into the workspace first: the state changes only once nothing can throw.
     Workspace& w = workspace_;
     propagate_points(state_model_, points_, w.propagated, w.state);
-    w.mean.noalias() = w.propagated * mean_weights_;
+    weighted_mean(w.propagated, mean_weights_, w.mean);
     w.centred = w.propagated.colwise() - w.mean;
 
     // Rows of the stacked matrix whose Gram matrix is P⁻ (negative weights: zero rows, handled

@@ -62,11 +62,18 @@ void propagate_points(const SM& model, const Matrix<N, M>& points, Matrix<N, M>&
                         "the state model must return finite states");
 }
 
-/// The largest state dimension n whose run-time-sized n × M · M × n products take Eigen's
-/// coefficient-based kernel instead of its blocked GEMM (weighted_covariance). Measured on the
-/// UKF's predict + update (Clang 14 -O3): 10 % faster at n = 6, 8 % slower at n = 12; up to
-/// n = 4 Eigen picks the coefficient-based kernel by itself (rows + cols + depth < 20).
-inline constexpr Index lazy_product_max_rows = 8;
+/// out = Σ W_i χ_i, the weighted mean of the points (one matrix-vector product).
+template <int N, int M>
+void weighted_mean(const Matrix<N, M>& points, const Vector<M>& weights, Vector<N>& out) {
+  if constexpr (N == Dynamic) {
+    // Eigen's GEMV set-up costs more than a small product itself (lazy_product_max_rows).
+    if (points.rows() <= lazy_product_max_rows) {
+      out.noalias() = points.lazyProduct(weights);
+      return;
+    }
+  }
+  out.noalias() = points * weights;
+}
 
 /// out = Σ Wc_i (χ_i − about)(χ_i − about)ᵀ, through the caller's n × M buffers `centred` and
 /// `weighted` (so that the product is one matrix product and nothing is allocated once they
@@ -79,8 +86,7 @@ void weighted_covariance(const Matrix<N, M>& points, const Vector<M>& covariance
   weighted = centred * covariance_weights.asDiagonal();
   if constexpr (N == Dynamic) {
     // Eigen sends a run-time-sized product with rows + cols + depth ≥ 20 to its blocked GEMM,
-    // whose packing dominates at a filter's sizes; the coefficient-based product is what a
-    // fixed size gets. Up to n = lazy_product_max_rows it is the faster.
+    // whose packing dominates at a filter's sizes (lazy_product_max_rows).
     if (points.rows() <= lazy_product_max_rows) {
       out.noalias() = weighted.lazyProduct(centred.transpose());
       return;
