@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -170,6 +172,68 @@ TYPED_TEST(CholeskyInto, RepairsReplaceTheMatrixAndFailuresLeaveIt) {
   const TypeParam expected = indefinite_matrix() + report.jitter * Eigen::Matrix3d::Identity();
   EXPECT_TRUE(m.isApprox(expected, 1e-12));
   EXPECT_TRUE((lower * lower.transpose()).isApprox(m, 1e-12));
+}
+
+// A well-conditioned SPD matrix of size n with distinct entries: B Bᵀ + n·I.
+Eigen::MatrixXd spd_matrix_of_size(Index n) {
+  Eigen::MatrixXd b(n, n);
+  for (Index c = 0; c < n; ++c) {
+    for (Index r = 0; r < n; ++r)
+      b(r, c) = std::sin(1.0 + 0.7 * static_cast<double>(r) + 1.3 * static_cast<double>(c));
+  }
+  Eigen::MatrixXd m = b * b.transpose();
+  m.diagonal().array() += static_cast<double>(n);
+  return m;
+}
+
+// The compile-time-sized kernel agrees with Eigen's LLT and names the first bad pivot.
+template <int K>
+void check_unrolled_llt() {
+  const SquareMatrix<K> m = spd_matrix_of_size(K);
+  SquareMatrix<K> a = m;
+  ASSERT_EQ(detail::llt_in_place_unrolled<K>(a), -1) << "K = " << K;
+  const SquareMatrix<K> lower = a.template triangularView<Eigen::Lower>();
+  const SquareMatrix<K> eigen = Eigen::LLT<SquareMatrix<K>>(m).matrixL();
+  EXPECT_TRUE(lower.isApprox(eigen, 1e-14)) << "K = " << K;
+  for (int bad = 0; bad < K; ++bad) {
+    SquareMatrix<K> d = SquareMatrix<K>::Identity();
+    d(bad, bad) = -1.0;
+    EXPECT_EQ(detail::llt_in_place_unrolled<K>(d), bad) << "K = " << K;
+  }
+}
+
+TEST(LltInPlaceUnrolled, AgreesWithEigenAndReportsTheFailedPivotAtEverySize) {
+  [&]<int... K>(std::integer_sequence<int, K...>) { (check_unrolled_llt<K + 1>(), ...); }
+  (std::make_integer_sequence<int, max_fixed_dispatch_size>{});
+}
+
+TEST(FixedSizeFactorLower, FactorsWithinTheBoundAndLeavesLargerMatricesAlone) {
+  for (Index n = 1; n <= max_fixed_dispatch_size + 2; ++n) {
+    const Eigen::MatrixXd m = spd_matrix_of_size(n);
+    Eigen::MatrixXd lower = Eigen::MatrixXd::Constant(n, n, 7.0);
+    const std::optional<bool> factored = detail::fixed_size_factor_lower(m, lower);
+    if (n > max_fixed_dispatch_size) {
+      EXPECT_FALSE(factored.has_value()) << "n = " << n;
+      EXPECT_TRUE((lower.array() == 7.0).all()) << "n = " << n;
+      continue;
+    }
+    ASSERT_EQ(factored, true) << "n = " << n;
+    EXPECT_TRUE(lower.isApprox(Eigen::MatrixXd(Eigen::LLT<Eigen::MatrixXd>(m).matrixL()), 1e-14))
+        << "n = " << n;
+    Eigen::MatrixXd indefinite = m;
+    indefinite(n - 1, n - 1) = -1.0;
+    EXPECT_EQ(detail::fixed_size_factor_lower(indefinite, lower), false) << "n = " << n;
+  }
+}
+
+TEST(CholeskyInto, RunTimeSizesOnEitherSideOfTheFixedSizeBoundFactorAlike) {
+  for (const Index n : {Index{max_fixed_dispatch_size}, Index{max_fixed_dispatch_size + 1}}) {
+    Eigen::MatrixXd m = spd_matrix_of_size(n);
+    Eigen::MatrixXd lower(n, n);
+    EXPECT_FALSE(cholesky_into(m, lower).repaired());
+    EXPECT_TRUE((lower * lower.transpose()).isApprox(m, 1e-14)) << "n = " << n;
+    EXPECT_TRUE(lower.triangularView<Eigen::StrictlyUpper>().toDenseMatrix().isZero(0.0));
+  }
 }
 
 TEST(CholeskyOptions, ValidateNamesTheField) {

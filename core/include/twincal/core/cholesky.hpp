@@ -29,6 +29,7 @@
 #include "twincal/core/cholesky_factor.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/fixed_size_dispatch.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
 
@@ -115,6 +116,61 @@ template <int N>
       lambda_min);
 }
 
+/// In-place lower Cholesky factorization of the K × K `a` at compile-time size: a right-looking
+/// rank-one update per column over fixed-size blocks, which the compiler unrolls (Eigen's own
+/// unblocked kernel runs its blocks at run-time sizes even for a fixed matrix, a GEMV per
+/// column). Reads and overwrites the lower triangle, scribbles on the strict upper one.
+/// Returns −1 when every pivot was positive, else the column whose pivot was not.
+template <int K, int J = 0, typename Square>
+[[nodiscard]] Index llt_in_place_unrolled(Square& a) noexcept {
+  if constexpr (J == K) {
+    return -1;
+  } else {
+    const double pivot = a(J, J);
+    if (!(pivot > 0.0)) return J;
+    const double root = std::sqrt(pivot);
+    a(J, J) = root;
+    constexpr int rest = K - J - 1;
+    if constexpr (rest > 0) {
+      auto column = a.template block<rest, 1>(J + 1, J);
+      column /= root;
+      a.template block<rest, rest>(J + 1, J + 1).noalias() -= column * column.transpose();
+    }
+    return llt_in_place_unrolled<K, J + 1>(a);
+  }
+}
+
+/// The happy path of cholesky_into: copies the lower triangle of `matrix` into `lower` (already
+/// n × n), factors it in place and returns true when every pivot was positive and finite, with
+/// L's strict upper triangle zeroed; returns false otherwise (`lower` then unspecified). Up to
+/// max_fixed_dispatch_size at compile-time size with the unrolled kernel, beyond it with Eigen's
+/// in-place kernel (the one LLT::compute runs, without the L1 norm that only rcond() reads).
+template <typename Source, typename Target>
+[[nodiscard]] bool factor_lower(const Eigen::MatrixBase<Source>& matrix,
+                                Eigen::MatrixBase<Target>& lower) {
+  constexpr int n_at_compile_time = Target::RowsAtCompileTime;
+  lower.template triangularView<Eigen::Lower>() = matrix;
+  Index failed = 0;
+  if constexpr (n_at_compile_time != Dynamic && n_at_compile_time <= max_fixed_dispatch_size) {
+    failed = llt_in_place_unrolled<n_at_compile_time>(lower.derived());
+  } else {
+    failed = Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(lower.derived());
+  }
+  // Positive and finite pivots: the kernels pass NaN pivots and tiny ones that underflow to 0.
+  constexpr double infinity = std::numeric_limits<double>::infinity();
+  if (failed >= 0 ||
+      !(lower.diagonal().array() > 0.0 && lower.diagonal().array() < infinity).all()) {
+    return false;
+  }
+  lower.template triangularView<Eigen::StrictlyUpper>().setZero();
+  return true;
+}
+
+/// factor_lower at compile-time size n for run-time-sized operands with 1 <= n <=
+/// max_fixed_dispatch_size (compiled once, in core's src/cholesky.cpp); nullopt, touching
+/// nothing, beyond that size.
+[[nodiscard]] std::optional<bool> fixed_size_factor_lower(const MatrixX& matrix, MatrixX& lower);
+
 }  // namespace detail
 
 /// Factors the symmetric matrix whose lower triangle is `m` as L Lᵀ, repairing it per
@@ -189,6 +245,17 @@ template <typename Derived>
   detail::throw_not_pd(name, report.smallest_eigenvalue, " (unknown repair policy)");
 }
 
+namespace detail {
+
+/// cholesky_into without the check of `options`, for callers that validated them once where
+/// they keep them (a filter's constructor): a filter step factors twice, and re-validating
+/// unchanged options was a fifth of a one-dimensional step.
+template <int N>
+CholeskyReport cholesky_into_validated(SquareMatrix<N>& matrix, SquareMatrix<N>& lower,
+                                       const CholeskyOptions& options, std::string_view name);
+
+}  // namespace detail
+
 /// cholesky() into caller-owned storage, for hot loops: `lower` receives L (strict upper part
 /// zero), factored in place; when a repair was needed, `matrix` is replaced by the repaired
 /// matrix L Lᵀ. Allocates nothing, at any size, when no repair is needed and `lower` already has
@@ -201,19 +268,23 @@ CholeskyReport cholesky_into(SquareMatrix<N>& matrix, SquareMatrix<N>& lower,
                              const CholeskyOptions& options = {},
                              std::string_view name = "matrix") {
   require_valid("CholeskyOptions", options);
+  return detail::cholesky_into_validated(matrix, lower, options, name);
+}
+
+template <int N>
+CholeskyReport detail::cholesky_into_validated(SquareMatrix<N>& matrix, SquareMatrix<N>& lower,
+                                               const CholeskyOptions& options,
+                                               std::string_view name) {
   require_square(name, matrix);
   lower.resize(matrix.rows(), matrix.cols());
-  lower.template triangularView<Eigen::Lower>() = matrix;
-  // Eigen's in-place kernel, the one LLT::compute runs, on `lower`'s own storage. LLT::compute
-  // would first take the matrix's L1 norm, which only rcond() reads: a tenth of a small
-  // filter's factorization. −1 means every pivot was positive.
-  const Index failed = Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(lower);
-  // Positive and finite pivots: the kernel passes NaN pivots and tiny ones that underflow to 0.
-  constexpr double infinity = std::numeric_limits<double>::infinity();
-  if (failed < 0 && (lower.diagonal().array() > 0.0 && lower.diagonal().array() < infinity).all()) {
-    lower.template triangularView<Eigen::StrictlyUpper>().setZero();
-    return CholeskyReport{};
+  bool factored = false;
+  if constexpr (N == Dynamic) {
+    const std::optional<bool> fixed = detail::fixed_size_factor_lower(matrix, lower);
+    factored = fixed ? *fixed : detail::factor_lower(matrix, lower);
+  } else {
+    factored = detail::factor_lower(matrix, lower);
   }
+  if (factored) return CholeskyReport{};
   // The rare path may allocate: the matrix as read (its lower triangle, mirrored), checked for
   // finiteness and factored with the repair policy.
   const SquareMatrix<N> symmetric = matrix.template selfadjointView<Eigen::Lower>();

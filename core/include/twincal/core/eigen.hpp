@@ -47,8 +47,8 @@ using MatrixX = Matrix<Dynamic, Dynamic>;
 /// coefficient-based kernel (`lazyProduct`, what a small fixed size gets) instead of its
 /// general GEMV / blocked GEMM, whose packing and set-up dominate a product this small. Eigen
 /// itself only switches a matrix product when rows + cols + depth < 20, and never a
-/// matrix-vector product. Measured on the UKF's predict + update at Dynamic size (Clang 14 -O3):
-/// 10 % faster at n = 6, 8 % slower at n = 12 (docs/benchmarks.md).
+/// matrix-vector product. The filters' weighted mean and the analytic measurement's single-point
+/// He use it; their per-step kernels go further, to compile-time sizes (fixed_size_dispatch.hpp).
 inline constexpr Index lazy_product_max_rows = 8;
 
 }  // namespace twincal

@@ -24,12 +24,21 @@
 
 namespace twincal {
 
-/// Throws NonFiniteError unless `value` is finite.
+namespace detail {
+
+[[noreturn, gnu::cold, gnu::noinline]] inline void throw_non_finite(std::string_view name,
+                                                                    double value) {
+  throw NonFiniteError(std::string(name),
+                       fmt::format("{}: value is {}; rule: must be finite", name, value));
+}
+
+}  // namespace detail
+
+/// Throws NonFiniteError unless `value` is finite. The check inlines; the throw does not.
 inline void require_finite(std::string_view name, double value) {
-  if (!std::isfinite(value)) {
-    throw NonFiniteError(std::string(name),
-                         fmt::format("{}: value is {}; rule: must be finite", name, value));
-  }
+  if (std::isfinite(value)) [[likely]]
+    return;
+  detail::throw_non_finite(name, value);
 }
 
 /// True when every entry of `x` is finite. One vectorised reduction: x·0 is 0 for a finite entry

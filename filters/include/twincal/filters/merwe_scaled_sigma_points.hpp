@@ -15,6 +15,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/filters/symmetric_pairs.hpp"
 
 namespace twincal {
 
@@ -72,10 +73,7 @@ class MerweScaledSigmaPoints {
     const Index n = mean.size();
     const double c = std::sqrt(static_cast<double>(n) + lambda(n));
     points.col(0) = mean;
-    for (Index k = 0; k < n; ++k) {
-      points.col(1 + k) = mean + c * lower.col(k);
-      points.col(1 + n + k) = mean - c * lower.col(k);
-    }
+    write_symmetric_pairs(mean, lower, c, 1, points);
   }
 
  private:

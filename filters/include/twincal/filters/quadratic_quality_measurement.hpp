@@ -17,7 +17,9 @@
 #include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/fixed_size_dispatch.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/filters/fixed_size_kernels.hpp"
 
 namespace twincal {
 
@@ -62,6 +64,18 @@ class QuadraticQualityMeasurement {
     require_inputs(inputs);
     require_dimension("states", states.rows(), dimension(), "rows");
     require_dimension("out", out.size(), states.cols());
+    // Up to max_fixed_dispatch_size at compile-time size (fixed_size_kernels.hpp), which a
+    // run-time size reaches through the compiled dispatch.
+    if constexpr (N == Dynamic) {
+      if (states.rows() <= max_fixed_dispatch_size) {
+        StackVector shift = inputs.control - inputs.assembly;
+        if (kernels::quadratic_qualities(weight_, offset_, shift, states, out)) return;
+      }
+    } else if constexpr (N <= max_fixed_dispatch_size) {
+      const Vector<N> shift = inputs.control - inputs.assembly;
+      kernels::quadratic_qualities<N>(weight_, offset_, shift, states.topRows<N>(), out);
+      return;
+    }
     for (Index i = 0; i < states.cols(); ++i) {
       out(i) = quality(inputs.control - inputs.assembly - states.col(i));
     }

@@ -343,7 +343,7 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
   // case the repaired matrix replaces it), then writes the scheme's points for (mean, L) into
   // points_ — only once the factorization has succeeded.
   void draw_points(const StateVector& mean, CovarianceMatrix& covariance, std::string_view name) {
-    cholesky_into(covariance, workspace_.factor, options_.factorization, name);
+    detail::cholesky_into_validated(covariance, workspace_.factor, options_.factorization, name);
     scheme_.generate(mean, workspace_.factor, points_);
   }
 
@@ -360,8 +360,8 @@ requires(SM::dimension_at_compile_time == MM::dimension_at_compile_time) class S
       p.posterior_covariance.noalias() -= p.gain * (p.innovation_variance * p.gain.transpose());
     }
     if (options_.symmetrize) symmetrize(p.posterior_covariance);
-    p.factorization = cholesky_into(p.posterior_covariance, p.posterior_factor,
-                                    options_.factorization, "posterior covariance");
+    p.factorization = detail::cholesky_into_validated(
+        p.posterior_covariance, p.posterior_factor, options_.factorization, "posterior covariance");
     p.revision = revision_;
   }
 

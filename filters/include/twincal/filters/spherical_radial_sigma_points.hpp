@@ -12,6 +12,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/filters/symmetric_pairs.hpp"
 
 namespace twincal {
 
@@ -41,10 +42,7 @@ class SphericalRadialSigmaPoints {
                 Eigen::MatrixBase<Points>& points) const {
     const Index n = mean.size();
     const double c = std::sqrt(static_cast<double>(n));
-    for (Index k = 0; k < n; ++k) {
-      points.col(k) = mean + c * lower.col(k);
-      points.col(n + k) = mean - c * lower.col(k);
-    }
+    write_symmetric_pairs(mean, lower, c, 0, points);
   }
 };
 

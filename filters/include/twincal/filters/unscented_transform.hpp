@@ -15,7 +15,9 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/fixed_size_dispatch.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/filters/fixed_size_kernels.hpp"
 #include "twincal/filters/measurement_preview.hpp"
 #include "twincal/filters/state_model.hpp"
 
@@ -35,6 +37,30 @@ template <typename Derived>
     }
   }
   throw std::logic_error("throw_first_non_finite_point: called on finite points");
+}
+
+template <typename Values>
+[[noreturn, gnu::cold, gnu::noinline]] void throw_first_non_finite_measurement(
+    const Eigen::MatrixBase<Values>& values) {
+  for (Index i = 0; i < values.size(); ++i) {
+    if (std::isfinite(values(i))) continue;
+    throw NonFiniteError("measurements",
+                         fmt::format("measurements: value at sigma point {} is {}; rule: the "
+                                     "measurement function must return finite values",
+                                     i, values(i)));
+  }
+  throw std::logic_error("throw_first_non_finite_measurement: called on finite values");
+}
+
+[[noreturn, gnu::cold, gnu::noinline]] inline void throw_innovation_variance_not_positive(
+    double measurement_variance, double noise_variance) {
+  const double innovation_variance = measurement_variance + noise_variance;
+  throw NotPositiveDefiniteError(
+      "innovation_variance",
+      fmt::format("innovation_variance: S = Pzz + R is {:.6g} (Pzz = {:.6g}, R = {:.6g}); "
+                  "rule: must be > 0 (negative sigma-point weights can make Pzz negative)",
+                  innovation_variance, measurement_variance, noise_variance),
+      innovation_variance);
 }
 
 }  // namespace detail
@@ -82,17 +108,41 @@ template <int N, int M>
 void weighted_covariance(const Matrix<N, M>& points, const Vector<M>& covariance_weights,
                          const Vector<N>& about, Matrix<N, M>& centred, Matrix<N, M>& weighted,
                          SquareMatrix<N>& out) {
+  // Up to max_fixed_dispatch_size rows: one rank-one term per point at compile-time size
+  // (fixed_size_kernels.hpp), which a run-time size reaches through the compiled dispatch.
+  if constexpr (N == Dynamic) {
+    out.resize(points.rows(), points.rows());
+    if (kernels::weighted_scatter(points, covariance_weights, about, out)) return;
+  } else if constexpr (N <= max_fixed_dispatch_size) {
+    kernels::weighted_scatter<N>(points, covariance_weights, about, out);
+    return;
+  }
   centred = points.colwise() - about;
   weighted = centred * covariance_weights.asDiagonal();
+  out.noalias() = weighted * centred.transpose();
+}
+
+/// out = Pxz = Σ Wc_i (γ_i − ẑ)(χ_i − x) for the values γ_i at the points χ_i (centred on the
+/// mean x), ẑ = `predicted`. Allocates nothing once `out` has n entries.
+template <int N, int M>
+void cross_covariance(const Matrix<N, M>& points, const Vector<N>& mean,
+                      const Vector<M>& covariance_weights, const Vector<M>& values,
+                      double predicted, Vector<N>& out) {
+  out.resize(points.rows());
   if constexpr (N == Dynamic) {
-    // Eigen sends a run-time-sized product with rows + cols + depth ≥ 20 to its blocked GEMM,
-    // whose packing dominates at a filter's sizes (lazy_product_max_rows).
-    if (points.rows() <= lazy_product_max_rows) {
-      out.noalias() = weighted.lazyProduct(centred.transpose());
+    if (kernels::cross_covariance(points, covariance_weights, values, predicted, mean, out)) {
       return;
     }
+  } else if constexpr (N <= max_fixed_dispatch_size) {
+    kernels::cross_covariance<N>(points, covariance_weights, values, predicted, mean, out);
+    return;
   }
-  out.noalias() = weighted * centred.transpose();
+  // Column by column: a product with the centred points as an expression would need a
+  // temporary n × M matrix.
+  out.setZero();
+  for (Index i = 0; i < points.cols(); ++i) {
+    out.noalias() += (covariance_weights(i) * (values(i) - predicted)) * (points.col(i) - mean);
+  }
 }
 
 /// Fills the z-independent measurement statistics of `preview` from the values γ_i at the
@@ -107,34 +157,18 @@ void measurement_statistics(const Matrix<N, M>& points, const Vector<N>& mean,
                             const Eigen::MatrixBase<Values>& values, double noise_variance,
                             MeasurementPreview<N, M>& preview) {
   require_dimension("measurements", values.size(), points.cols());
-  for (Index i = 0; i < values.size(); ++i) {
-    if (std::isfinite(values(i))) continue;
-    throw NonFiniteError("measurements",
-                         fmt::format("measurements: value at sigma point {} is {}; rule: the "
-                                     "measurement function must return finite values",
-                                     i, values(i)));
-  }
+  if (!all_finite(values)) [[unlikely]]
+    detail::throw_first_non_finite_measurement(values);
   preview.measurements = values;
   const double predicted = mean_weights.dot(preview.measurements);
   preview.predicted_measurement = predicted;
   preview.measurement_variance =
       (covariance_weights.array() * (preview.measurements.array() - predicted).square()).sum();
   preview.innovation_variance = preview.measurement_variance + noise_variance;
-  if (!(preview.innovation_variance > 0.0)) {
-    throw NotPositiveDefiniteError(
-        "innovation_variance",
-        fmt::format("innovation_variance: S = Pzz + R is {:.6g} (Pzz = {:.6g}, R = {:.6g}); "
-                    "rule: must be > 0 (negative sigma-point weights can make Pzz negative)",
-                    preview.innovation_variance, preview.measurement_variance, noise_variance),
-        preview.innovation_variance);
-  }
-  // Column by column: a product with the centred points as an expression would need a
-  // temporary n × M matrix.
-  preview.cross_covariance.setZero(points.rows());
-  for (Index i = 0; i < points.cols(); ++i) {
-    const double weight = covariance_weights(i) * (preview.measurements(i) - predicted);
-    preview.cross_covariance.noalias() += weight * (points.col(i) - mean);
-  }
+  if (!(preview.innovation_variance > 0.0)) [[unlikely]]
+    detail::throw_innovation_variance_not_positive(preview.measurement_variance, noise_variance);
+  cross_covariance(points, mean, covariance_weights, preview.measurements, predicted,
+                   preview.cross_covariance);
   preview.gain = preview.cross_covariance / preview.innovation_variance;
 }
 
