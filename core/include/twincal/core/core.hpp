@@ -7,6 +7,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/evaluation_counter.hpp"
+#include "twincal/core/fixed_size_dispatch.hpp"
 #include "twincal/core/format.hpp"
 #include "twincal/core/gaussian.hpp"
 #include "twincal/core/options.hpp"

@@ -5,6 +5,7 @@
 
 #include "twincal/filters/cubature_kalman_filter.hpp"
 #include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
+#include "twincal/filters/fixed_size_kernels.hpp"
 #include "twincal/filters/julier_sigma_points.hpp"
 #include "twincal/filters/measurement_model.hpp"
 #include "twincal/filters/measurement_preview.hpp"
@@ -18,5 +19,6 @@
 #include "twincal/filters/spherical_radial_sigma_points.hpp"
 #include "twincal/filters/square_root_sigma_point_filter.hpp"
 #include "twincal/filters/state_model.hpp"
+#include "twincal/filters/symmetric_pairs.hpp"
 #include "twincal/filters/unscented_kalman_filter.hpp"
 #include "twincal/filters/unscented_transform.hpp"
