@@ -5,11 +5,16 @@ For every experiment group (case x locator set, or sweep point): box plots over 
 controller's episode-mean relative residual (z - z*)/z* (upper panel) and episode-mean
 estimation error |du^ - du*| (lower panel). Boxes cover the runs that did not diverge; the runs
 that did are counted in a red circle above the controller whose redness grows with the count.
+Lost runs (mean |du^ - du*| over the second half above the baseline's mean |du*|: worse than no
+estimate, diverged or not) are counted in the controller's label, "w=1 (3 lost)".
 Table 1 analog: mean wall time and Q-evaluations per assembly of the default controller and the
 w-controllers, for 1 and 3 locators, per case (Markdown and CSV), plus every group x controller.
 Scaling figure (groups of `twincal scaling`, tagged study = scaling): per case, the median
-relative residual, the diverged fraction and the Q-evaluations per assembly against the number d
-of controlled locators, one line per controller.
+relative residual, the diverged fraction (solid) with the lost fraction (dashed) and the
+Q-evaluations per assembly against the number d of controlled locators, one line per controller.
+Nonlinearity figure (groups of `twincal scaling --nonlinearity K`, tagged study = nonlinearity):
+per nonlinearity and d, the same three panels against the strength of the nonlinearity, each
+tick labelled with how far that twin's Q^2 departs from a quadratic.
 
 History figure (a `twincal serve` session, exported by `twincal history`): per locator the
 estimate du^_t with its +-2 sigma band over the requests, and the measured quality z_t against
@@ -46,6 +51,13 @@ def load(results):
     return summary["groups"], summary["episodes"]
 
 
+def lost_count(episodes):
+    """Runs recorded as lost, or None when a record predates the rule (no "lost" field)."""
+    if any("lost" not in e for e in episodes):
+        return None
+    return sum(1 for e in episodes if e["lost"])
+
+
 def file_stem(name):
     return re.sub(r"[^A-Za-z0-9=.+-]+", "_", name).strip("_")
 
@@ -65,7 +77,7 @@ def plot_group(group, episodes, out):
                    if any(e["controller"] == c for e in episodes)]
     if not controllers:
         return None
-    residuals, errors, diverged, runs = [], [], [], 0
+    residuals, errors, diverged, labels, runs = [], [], [], [], 0
     for controller in controllers:
         mine = [e for e in episodes if e["controller"] == controller]
         runs = max(runs, len(mine))
@@ -73,6 +85,8 @@ def plot_group(group, episodes, out):
         residuals.append([number(e["relative_residual"]) for e in kept])
         errors.append([number(e["estimation_error"]) for e in kept])
         diverged.append((len(mine) - len(kept), len(mine)))
+        lost = lost_count(mine)
+        labels.append(f"{controller} ({lost} lost)" if lost else controller)
 
     figure, (upper, lower) = plt.subplots(2, 1, sharex=True, figsize=(max(6.0, 0.6 * len(controllers) + 2), 6.5))
     positions = list(range(1, len(controllers) + 1))
@@ -94,7 +108,7 @@ def plot_group(group, episodes, out):
                        fontsize=7, color="white" if count / max(total, 1) > 0.5 else "black",
                        bbox={"boxstyle": "circle,pad=0.3", "facecolor": shade, "edgecolor": "darkred"})
     lower.set_xticks(positions)
-    lower.set_xticklabels(controllers, rotation=45, ha="right")
+    lower.set_xticklabels(labels, rotation=45, ha="right")
     upper.set_title(group_title(group, runs), fontsize=9, pad=20)
     figure.tight_layout()
     stem = file_stem(group["name"])
@@ -177,6 +191,88 @@ def median(values):
     return values[middle] if len(values) % 2 else 0.5 * (values[middle - 1] + values[middle])
 
 
+def controller_lines(mine, episodes, x_of):
+    """Per controller of the groups `mine` (in order), its points (x, median residual, diverged
+    fraction, Q-evaluations per assembly, lost fraction), x = x_of(group)."""
+    controllers = []
+    for group in mine:
+        controllers += [c for c in group["config"]["controllers"] if c not in controllers]
+    lines = {}
+    for controller in controllers:
+        points = []
+        for group in mine:
+            rows = [e for e in episodes
+                    if e["group"] == group["name"] and e["controller"] == controller]
+            if not rows:
+                continue
+            kept = [e for e in rows if e["diverged_at"] is None]
+            lost = lost_count(rows)
+            points.append((x_of(group),
+                           median([number(e["relative_residual"]) for e in kept]),
+                           (len(rows) - len(kept)) / len(rows),
+                           mean([number(e["q_evaluations_per_assembly"]) for e in rows]),
+                           math.nan if lost is None else lost / len(rows)))
+        if points:
+            lines[controller] = points
+    return lines
+
+
+def three_panels(lines, evaluations_title):
+    """Residual, diverged (solid) and lost (dashed) fractions, Q-evaluations: one line per
+    controller; returns the figure and its axes."""
+    figure, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    for controller, points in lines.items():
+        for axis, column in zip(axes, (1, 2, 3)):
+            line, = axis.plot([p[0] for p in points], [p[column] for p in points],
+                              marker="o", label=controller)
+            if column == 2:  # the lost fraction beside the diverged one, same colour
+                axes[1].plot([p[0] for p in points], [p[4] for p in points], marker="x",
+                             linestyle="--", color=line.get_color())
+    titles = ("median of the runs' mean (z − z*)/z*",
+              "fraction of the runs: diverged (—), lost (- -)",
+              evaluations_title)
+    for axis, title in zip(axes, titles):
+        axis.set_title(title, fontsize=9)
+        axis.grid(alpha=0.3)
+    axes[0].set_yscale("log")
+    axes[2].set_yscale("log")
+    axes[1].set_ylim(-0.05, 1.05)
+    axes[0].legend(fontsize=8)
+    return figure, axes
+
+
+def save(figure, out, stem):
+    figure.tight_layout()
+    for extension in ("png", "svg"):
+        figure.savefig(os.path.join(out, f"{stem}.{extension}"), dpi=150)
+    plt.close(figure)
+    return stem
+
+
+def plot_nonlinearity(groups, episodes, out):
+    """One figure per nonlinearity and d: three panels against its strength, a line per controller."""
+    study = [g for g in groups if g.get("tags", {}).get("study") == "nonlinearity"]
+    made = []
+    for kind, d in sorted({(g["tags"]["nonlinearity"], g["tags"]["dimension"]) for g in study}):
+        mine = sorted((g for g in study
+                       if g["tags"]["nonlinearity"] == kind and g["tags"]["dimension"] == d),
+                      key=lambda g: g["tags"]["strength"])
+        lines = controller_lines(mine, episodes, lambda g: g["tags"]["strength"])
+        figure, axes = three_panels(lines, "Q-evaluations per assembly")
+        labels = []
+        for g in mine:
+            departure = g.get("twin", {}).get("quadratic_departure")
+            labels.append(f"{g['tags']['strength']:g}" +
+                          ("" if departure is None else f"\n({departure:.2f})"))
+        for axis in axes:
+            axis.set_xlabel("strength (Q² departure from a quadratic)")
+            axis.set_xticks([g["tags"]["strength"] for g in mine])
+            axis.set_xticklabels(labels, fontsize=8)
+        figure.suptitle(f"analytic twin with {kind}, d = {d}", fontsize=10)
+        made.append(save(figure, out, f"nonlinearity_{file_stem(kind)}_d{d}"))
+    return made
+
+
 def plot_scaling(groups, episodes, out):
     """One figure per case of the scaling groups: three panels against d, a line per controller."""
     scaling = [g for g in groups if g.get("tags", {}).get("study") == "scaling"]
@@ -184,50 +280,19 @@ def plot_scaling(groups, episodes, out):
     for case in sorted({g["config"]["case"] for g in scaling}):
         mine = sorted((g for g in scaling if g["config"]["case"] == case),
                       key=lambda g: g["twin"]["dimension"])
-        controllers = []
-        for group in mine:
-            controllers += [c for c in group["config"]["controllers"] if c not in controllers]
-        figure, axes = plt.subplots(1, 3, figsize=(14, 4.2))
-        for controller in controllers:
-            points = []  # (d, median residual, diverged fraction, Q-evaluations)
-            for group in mine:
-                rows = [e for e in episodes
-                        if e["group"] == group["name"] and e["controller"] == controller]
-                if not rows:
-                    continue
-                kept = [e for e in rows if e["diverged_at"] is None]
-                points.append((group["twin"]["dimension"],
-                               median([number(e["relative_residual"]) for e in kept]),
-                               (len(rows) - len(kept)) / len(rows),
-                               mean([number(e["q_evaluations_per_assembly"]) for e in rows])))
-            if not points:
-                continue
-            for axis, column in zip(axes, (1, 2, 3)):
-                axis.plot([p[0] for p in points], [p[column] for p in points], marker="o",
-                          label=controller)
+        lines = controller_lines(mine, episodes, lambda g: g["twin"]["dimension"])
         cap = mine[0]["config"].get("candidate_cap")
-        titles = ("median of the runs' mean (z − z*)/z*", "diverged fraction of the runs",
-                  "Q-evaluations per assembly" +
-                  (f" (w-controllers: ≤ {cap} candidates)" if cap else ""))
-        for axis, title in zip(axes, titles):
+        figure, axes = three_panels(
+            lines, "Q-evaluations per assembly" +
+            (f" (w-controllers: ≤ {cap} candidates)" if cap else ""))
+        dimensions = [g["twin"]["dimension"] for g in mine]
+        for axis in axes:
             axis.set_xlabel("controlled locators d")
-            axis.set_title(title, fontsize=9)
-            axis.grid(alpha=0.3)
             axis.set_xscale("log")
-            dimensions = [g["twin"]["dimension"] for g in mine]
             axis.set_xticks(dimensions)
             axis.set_xticklabels([str(d) for d in dimensions])
-        axes[0].set_yscale("log")
-        axes[2].set_yscale("log")
-        axes[1].set_ylim(-0.05, 1.05)
-        axes[0].legend(fontsize=8)
         figure.suptitle(f"scaling with dimension: {case}", fontsize=10)
-        figure.tight_layout()
-        stem = f"scaling_{file_stem(case)}"
-        for extension in ("png", "svg"):
-            figure.savefig(os.path.join(out, f"{stem}.{extension}"), dpi=150)
-        plt.close(figure)
-        made.append(stem)
+        made.append(save(figure, out, f"scaling_{file_stem(case)}"))
     return made
 
 
@@ -292,6 +357,7 @@ def main():
         if stem:
             made.append(stem)
     made += plot_scaling(groups, episodes, out)
+    made += plot_nonlinearity(groups, episodes, out)
     print(table1(groups, episodes, out))
     print(f"\n{len(made)} figures (PNG + SVG), table1.md, table1.csv and table1_detail.csv "
           f"in {out}")

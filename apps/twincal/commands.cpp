@@ -46,6 +46,12 @@ constexpr const char* config_options_help =
   --seed S               master seed of the runs (default 2023)
   --twin-seed S          seed of the twin (default 2023)
   --dimension D          locators of the analytic twin (default 3)
+  --nonlinearity K       the analytic twin's: none (RMS-quadratic), contact, stiffening, kink
+  --strength S           the nonlinearity's strength (default 1; contact in [0, 1])
+  --plant CASE           the plant is another FEM case than the twin (e.g. body-contact
+                         behind --case body); default: the twin itself
+  --plant-nonlinearity K the analytic plant's nonlinearity, which the twin lacks
+  --plant-strength S     its strength (default: --strength)
   --filter NAME          merwe (UKF, default) | julier | cubature | fifth_degree | simplex
   --sampler NAME         sobol (default) | halton | random | latin_hypercube
   --exploration NAME     trace (default) | weighted_trace | log_det | max_eigenvalue
@@ -54,7 +60,7 @@ constexpr const char* config_options_help =
                          per-component:w=<0..1>, or "paper"
                          (default paper: baseline, default, w=0, 0.1, ..., 1, active))
   --twin-command "CMD"   the program of the external case (overrides external_twin.command
-                         of --config, which describes the twin: docs/models.md)
+                         of --config, which describes the twin: docs/external.md)
   --twin-workers N       processes of the external twin (default 1; results do not depend on N)
 )";
 
@@ -108,7 +114,7 @@ void apply_twin_options(Arguments& arguments, std::span<ExperimentConfig> config
       throw InvalidArgumentError(
           option, fmt::format("{}: the config has no external_twin; rule: give --config "
                               "FILE.json whose external_twin describes the twin (its locators "
-                              "and bounds; docs/models.md)",
+                              "and bounds; docs/external.md)",
                               option));
     }
     if (twin_command) from_json(json{{"command", *twin_command}}, *config.external_twin);
@@ -133,6 +139,15 @@ ExperimentConfig read_config(
   if (const auto v = arguments.seed("seed")) config.seed = *v;
   if (const auto v = arguments.seed("twin-seed")) config.twin_seed = *v;
   if (const auto v = arguments.integer("dimension")) config.analytic_dimension = *v;
+  if (const auto v = arguments.text("nonlinearity")) {
+    config.nonlinearity = parse_nonlinearity(*v, "--nonlinearity");
+  }
+  if (const auto v = arguments.real("strength")) config.strength = *v;
+  if (const auto v = arguments.text("plant")) config.plant_case = parse_twin_case(*v, "--plant");
+  if (const auto v = arguments.text("plant-nonlinearity")) {
+    config.plant_nonlinearity = parse_nonlinearity(*v, "--plant-nonlinearity");
+  }
+  if (const auto v = arguments.real("plant-strength")) config.plant_strength = *v;
   if (const auto v = arguments.text("filter")) config.filter = parse_filter_scheme(*v, "--filter");
   if (const auto v = arguments.text("sampler")) {
     config.sampler = parse_candidate_sampler(*v, "--sampler");
@@ -194,6 +209,13 @@ int run_study(const std::vector<ExperimentGroup>& groups, const fs::path& out,
     if (names.contains(row.group)) rows.push_back(std::move(row));
   }
   fmt::print("{}", format_summary(rows));
+  json studied = json::array();
+  for (const json& group : store.groups()) {
+    if (names.contains(group.at("name").get<std::string>())) studied.push_back(group);
+  }
+  if (const std::string departures = format_departures(studied); !departures.empty()) {
+    fmt::print("\n{}", departures);
+  }
   return 0;
 }
 
@@ -223,8 +245,9 @@ int run_command(std::span<const std::string> args) {
 
 Runs one configuration: one twin case and locator set, its controllers, N runs.
 
-  --case NAME            body | door (the FEM twin) | analytic | external (a program:
-                         --config with external_twin, docs/models.md) (default body)
+  --case NAME            body | door (the FEM twin) | body-contact | door-contact (the same
+                         with flange contact) | analytic | external (a program:
+                         --config with external_twin, docs/external.md) (default body)
   --locators SET         A | B | C | ABC | all | names or indices joined by commas (default A)
   --name NAME            group name in the results (default <case>/<locators>)
 {}{})",
@@ -290,18 +313,43 @@ std::vector<Index> parse_dimensions(const std::string& list) {
   return dimensions;
 }
 
+// "0,0.5,1" as a list of numbers.
+std::vector<double> parse_strengths(const std::string& list) {
+  std::vector<double> strengths;
+  for (const std::string_view item : split_commas(list)) {
+    double s = 0.0;
+    const auto [last, error] = std::from_chars(item.data(), item.data() + item.size(), s);
+    if (error != std::errc{} || last != item.data() + item.size()) {
+      throw InvalidArgumentError(
+          "strengths", fmt::format("--strengths: holds \"{}\"; rule: must be numbers joined by "
+                                   "commas, e.g. 0,0.5,1",
+                                   item));
+    }
+    strengths.push_back(s);
+  }
+  return strengths;
+}
+
 int scaling_command(std::span<const std::string> args) {
   static const std::string help = fmt::format(
       R"(usage: twincal scaling [options]
 
 Benchmarks scaling with dimension: the same controllers over a growing number d of controlled
 (and drifting) locators. On the analytic twin, one group per d with every locator controlled; on
-body or door, locator sets A, ABC and all. Then `twincal plot --results DIR` draws median
-relative residual, divergences and Q-evaluations per assembly against d, one line per
-controller.
+body or door, locator sets A, ABC and all. The summary table counts the diverged and the lost
+runs (worse than the baseline's |du*| over the second half) per d; `twincal plot --results DIR`
+draws median relative residual, diverged and lost fractions and Q-evaluations per assembly
+against d, one line per controller.
+
+With --nonlinearity (contact, stiffening, kink), the same controllers over a growing strength
+of the analytic twin's nonlinearity instead, at each d of --dimensions (default 3): the
+summary prints how far each twin's Q² departs from a quadratic, and `twincal plot` draws
+residual, diverged and lost fractions and Q-evaluations against the strength.
 
   --case NAME            analytic (default) | body | door
   --dimensions LIST      the analytic twin's d values (default 1,2,3,6,12,19,32)
+  --strengths LIST       with --nonlinearity: its strengths (default 0,0.25,0.5,0.75,1 for
+                         contact, 0,0.5,1,1.5,2 for stiffening and kink)
   --candidate-cap N      at most N candidates per assembly for the w-controllers (default 1024:
                          the paper's 2^(2+d) up to d = 8; 2^21 at d = 19 is infeasible)
                          (default controllers: baseline, default, w=1, per-component:w=1, active)
@@ -324,6 +372,24 @@ controller.
   }
   const TwinCase twin_case = parse_twin_case(arguments.text("case").value_or("analytic"), "--case");
   const std::optional<std::string> list = arguments.text("dimensions");
+  const std::optional<std::string> strength_list = arguments.text("strengths");
+  if (base.nonlinearity != Nonlinearity::none) {
+    const std::vector<Index> dimensions = list ? parse_dimensions(*list) : std::vector<Index>{3};
+    const std::vector<double> strengths =
+        strength_list ? parse_strengths(*strength_list)
+        : base.nonlinearity == Nonlinearity::contact ? std::vector<double>{0, 0.25, 0.5, 0.75, 1}
+                                                     : std::vector<double>{0, 0.5, 1, 1.5, 2};
+    const fs::path out = arguments.text("out").value_or("results/nonlinearity");
+    const RunOptions options = read_run_options(arguments);
+    const bool dry_run = arguments.flag("dry-run");
+    arguments.require_all_read();
+    return run_study(nonlinearity_study(dimensions, strengths, base), out, options, dry_run);
+  }
+  if (strength_list) {
+    throw InvalidArgumentError("strengths",
+                               "--strengths: is given without --nonlinearity; rule: it is the "
+                               "strength of the analytic twin's nonlinearity");
+  }
   std::vector<Index> dimensions;
   if (list) {
     dimensions = parse_dimensions(*list);
@@ -374,8 +440,10 @@ int summary_command(std::span<const std::string> args) {
   constexpr const char* help = R"(usage: twincal summary --results DIR
 
 Prints the summary table of a results directory: per group and controller, the runs, the
-divergences, the medians over the non-diverged runs of the mean relative residual (z-z*)/z* and
-of the mean estimation error |du^ - du*|, and the mean time (µs) and Q-evaluations per assembly.
+divergences, the lost runs (mean |du^ - du*| over the second half of the assemblies above the
+baseline's mean |du*| there; - for results from before the rule), the medians over the
+non-diverged runs of the mean relative residual (z-z*)/z* and of the mean estimation error
+|du^ - du*|, and the mean time (µs) and Q-evaluations per assembly.
 )";
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help)) return 0;
@@ -449,7 +517,8 @@ int plot_command(std::span<const std::string> args, const char* argv0) {
 Makes the figures of a results directory with matplotlib (apps/plots/twincal_plot.py), as PNG
 and SVG: per case and locator set, box plots over the runs of the mean relative residual (upper
 panel) and of the mean estimation error (lower panel) per controller, divergences as red
-circles whose intensity grows with their count (the paper's Figs. 4-11); and the Table 1 analog,
+circles whose intensity grows with their count (the paper's Figs. 4-11), lost runs counted in
+the controller's label; and the Table 1 analog,
 mean time and Q-evaluations per assembly per controller for 1 and 3 locators, as Markdown and
 CSV. With --history, the figure of a `twincal serve` session (exported by `twincal history`):
 the estimate and its +-2 sigma band per locator, and the measured quality against the twin's

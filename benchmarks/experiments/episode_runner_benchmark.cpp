@@ -22,12 +22,7 @@ void episode(benchmark::State& state, ExperimentConfig config, const ControllerS
 }
 
 const bool registered = [] {
-  std::vector<TwinCase> cases{TwinCase::analytic};
-  if (sheet_metal_cases_available()) {
-    cases.push_back(TwinCase::body);
-    cases.push_back(TwinCase::door);
-  }
-  for (const TwinCase twin_case : cases) {
+  for (const TwinCase twin_case : {TwinCase::analytic, TwinCase::body, TwinCase::door}) {
     for (const char* locators : {"A", "ABC"}) {
       for (const ControllerSpec& spec :
            {ControllerSpec::baseline(), ControllerSpec::default_controller(),

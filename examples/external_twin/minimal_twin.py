@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A minimal external twin for twincal (docs/models.md, "Writing an external twin").
+"""A minimal external twin for twincal (docs/external.md, "Writing an external twin").
 
 twincal starts this program and talks to it in JSON lines on stdin/stdout, one request, one
 reply:

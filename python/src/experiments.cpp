@@ -59,6 +59,7 @@ std::string run_experiment_json(const std::string& config_text, const std::strin
                       {"controller", row.controller},
                       {"runs", row.runs},
                       {"diverged", row.divergences},
+                      {"lost", row.lost ? nlohmann::json(*row.lost) : nlohmann::json(nullptr)},
                       {"median_relative_residual", row.median_relative_residual},
                       {"median_estimation_error", row.median_estimation_error},
                       {"seconds_per_assembly", row.seconds_per_assembly},

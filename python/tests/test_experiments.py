@@ -19,6 +19,7 @@ def test_runs_a_group_and_returns_its_summary(tmp_path):
         assert row["group"] == "analytic/all" and row["runs"] == 2 and row["diverged"] == 0
     baseline, active = rows
     assert baseline["q_evaluations_per_assembly"] == 0
+    assert baseline["lost"] == 0  # the baseline's error is the rule's yardstick
     assert active["q_evaluations_per_assembly"] > 0
     assert active["median_relative_residual"] < baseline["median_relative_residual"]
     assert result["config"]["seed"] == 7 and "twin_seed" in result["config"]

@@ -55,8 +55,9 @@ def run_experiment(config, out=None, threads=0):
     threads, 0 for all cores; results do not depend on it.
 
     Returns ``{"config": the resolved config (seeds included), "rows": [one dict per
-    controller: group, controller, runs, diverged, median_relative_residual,
-    median_estimation_error, seconds_per_assembly, q_evaluations_per_assembly]}``, and, when
+    controller: group, controller, runs, diverged, lost (runs worse than the baseline over the
+    second half, docs/cli.md), median_relative_residual, median_estimation_error,
+    seconds_per_assembly, q_evaluations_per_assembly]}``, and, when
     pandas is installed, ``"frame"``: the rows as a pandas DataFrame.
     """
     import json

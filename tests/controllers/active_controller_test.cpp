@@ -2,13 +2,22 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "controller_fixture.hpp"
 #include "twincal/controllers/information_probe.hpp"
+#include "twincal/controllers/searched_optimum_twin.hpp"
+#include "twincal/core/random_stream.hpp"
 #include "twincal/filters/simplex_sigma_points.hpp"
+#include "twincal/models/bouncing_drift.hpp"
+#include "twincal/models/contact_nonlinearity.hpp"
+#include "twincal/models/key_point_twin.hpp"
+#include "twincal/models/kink_nonlinearity.hpp"
 #include "twincal/models/rugged_twin.hpp"
+#include "twincal/models/stiffening_nonlinearity.hpp"
 
 namespace twincal {
 namespace {
@@ -99,9 +108,10 @@ TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {
   EXPECT_EQ(controller.offset_covariance(), covariance);
 }
 
-TEST(ActiveController, FallsBackToSigmaPointsForATwinThatIsNotQuadratic) {
+TEST(ActiveController, FallsBackToSigmaPointsForATwinThatIsNotQuadraticWhenAskedTo) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
-  ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6));
+  ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6),
+                                                   ActiveOptions{.weigh_model_error = false});
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   for (int t = 0; t < 40; ++t) {
@@ -112,6 +122,26 @@ TEST(ActiveController, FallsBackToSigmaPointsForATwinThatIsNotQuadratic) {
     ASSERT_TRUE(controller.offset_estimate().allFinite());
   }
   // Sigma points keep the estimate bounded near the offset's scale.
+  EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
+}
+
+// The default for a twin whose Q² is not a quadratic: the model is still used, each assembly
+// weighted by its model's error (τ² > 0), and the estimate is the estimator's.
+TEST(ActiveController, WeighsTheModelErrorOfATwinThatIsNotQuadratic) {
+  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
+  ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6));
+  const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  for (int t = 0; t < 40; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
+    const VectorX u = controller.propose(x);
+    EXPECT_TRUE(controller.last_step().quadratic) << "assembly " << t;
+    EXPECT_GT(controller.last_step().model_error, controller.options().surrogate.tolerance);
+    EXPECT_GT(controller.last_step().model_variance, 0.0);
+    EXPECT_TRUE(controller.last_step().hessian_refitted) << "a failed check refits H";
+    controller.observe(x, u, twin.quality(x, VectorX(u - offset)));
+    ASSERT_TRUE(controller.offset_estimate().allFinite());
+  }
   EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
 }
 
@@ -130,3 +160,86 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
 
 }  // namespace
 }  // namespace twincal
+
+// The active controller on twins whose Q² is not a quadratic (key_point_twin.hpp): contact,
+// stiffening and kinks, one typed suite over the nonlinearities, with the paper's drift (eq. 15).
+namespace twincal::active_controller_nonlinear_test {
+namespace {
+
+template <typename Kind>
+class ActiveControllerOnNonlinearTwin : public ::testing::Test {};
+using Kinds = ::testing::Types<ContactNonlinearity, StiffeningNonlinearity, KinkNonlinearity>;
+TYPED_TEST_SUITE(ActiveControllerOnNonlinearTwin, Kinds);
+
+struct Episode {
+  double active = 0.0;    // mean (z − z*)/z*
+  double baseline = 0.0;  // the same for u0 − δu* (no calibration)
+  double error = 0.0;     // mean ‖δû − δu*‖ over the second half
+  double offset = 0.0;    // mean ‖δu*‖ over the second half (the baseline's error)
+  double evaluations = 0.0;
+};
+
+// One episode of 100 assemblies at strength 1, d = 3, with the paper's drift.
+template <typename Kind>
+Episode run(std::uint64_t seed) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 3;
+  KeyPointTwin<Kind> key_points(options, RandomStream(seed));
+  const std::vector<AssemblyId> assemblies = key_points.assemblies();
+  const SearchedOptimumTwin<KeyPointTwin<Kind>> twin(std::move(key_points), assemblies);
+  RandomStream stream(seed + 1);
+  RandomStream drift_stream = stream.substream("drift");
+  BouncingDrift<3> drift = BouncingDrift<3>::random(3, drift_stream);
+  ActiveController<SearchedOptimumTwin<KeyPointTwin<Kind>>, 3> controller(
+      twin, stream.substream("controller"));
+  Episode episode;
+  const std::size_t n = assemblies.size();
+  for (std::size_t t = 0; t < n; ++t) {
+    const AssemblyId& x = assemblies[t];
+    drift.advance();
+    const Vector<3> u = controller.propose(x);
+    const double z = twin.quality(x, VectorX(u - drift.offset()));
+    controller.observe(x, u, z);
+    const double best = twin.optimal_quality(x);
+    episode.active += (z - best) / best;
+    episode.baseline += (twin.quality(x, VectorX(twin.optimum(x) - drift.offset())) - best) / best;
+    episode.evaluations += static_cast<double>(controller.last_proposal().quality_evaluations);
+    if (t >= n / 2) {
+      episode.error += (controller.offset_estimate() - drift.offset()).norm();
+      episode.offset += drift.offset().norm();
+    }
+  }
+  const double count = static_cast<double>(n);
+  episode.active /= count;
+  episode.baseline /= count;
+  episode.evaluations /= count;
+  return episode;
+}
+
+// Over three seeded episodes: better than no calibration by a clear margin, within the budget
+// of 4 (d + 1)² twin evaluations per assembly, and — except on contact — never lost (its
+// estimate closer to the offset than no estimate, over the second half). On contact the
+// estimate is still lost in about 2 episodes of 10 (docs/reproduction.md, "Black-box twins"),
+// so there the test asks only that the episodes are not lost on average.
+TYPED_TEST(ActiveControllerOnNonlinearTwin, BeatsNoCalibrationAndKeepsTheOffset) {
+  double active = 0.0;
+  double baseline = 0.0;
+  double error = 0.0;
+  double offset = 0.0;
+  for (const std::uint64_t seed : {11U, 12U, 13U}) {
+    const Episode episode = run<TypeParam>(seed);
+    if constexpr (!std::is_same_v<TypeParam, ContactNonlinearity>) {
+      EXPECT_LT(episode.error, episode.offset) << "lost, seed " << seed;
+    }
+    EXPECT_LE(episode.evaluations, 4.0 * 16.0) << "seed " << seed;
+    active += episode.active;
+    baseline += episode.baseline;
+    error += episode.error;
+    offset += episode.offset;
+  }
+  EXPECT_LT(error, offset);
+  EXPECT_LT(active, 0.6 * baseline);
+}
+
+}  // namespace
+}  // namespace twincal::active_controller_nonlinear_test

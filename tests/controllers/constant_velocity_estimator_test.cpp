@@ -101,6 +101,33 @@ TEST(ConstantVelocityEstimator, AnOffsetBelowTheNoiseIsNotSignificant) {
   }
 }
 
+// An assembly whose model errs (variance σz² + τ²) weighs less: the same error of its quality
+// (2σz, below the change-of-velocity gate) moves the estimate less with τ = 5σz than with
+// τ = 0, measured against the estimate from its correct quality.
+TEST(ConstantVelocityEstimator, AnAssemblyWithAModelErrorWeighsLess) {
+  const Eigen::Vector3d offset(0.2, -0.1, 0.05);
+  const auto estimate = [&](double quality_error, double model_variance) {
+    DriftScenario scenario;
+    ConstantVelocityEstimator<3> estimator = make_estimator();
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    for (Index t = 0; t < 12; ++t) {
+      const Eigen::Vector3d u = scenario.next(t, estimator.position());
+      estimator.add(t, scenario.model, u, scenario.plant(u, offset));
+      estimator.fit(t + 1);
+    }
+    const Eigen::Vector3d u = scenario.next(12, estimator.position());
+    estimator.add(12, scenario.model, u, scenario.plant(u, offset) + quality_error,
+                  model_variance);
+    estimator.fit(13);
+    EXPECT_EQ(estimator.changes(), 0);
+    return Eigen::Vector3d(estimator.position());
+  };
+  const double exact = (estimate(0.02, 0.0) - estimate(0.0, 0.0)).norm();
+  const double erring = (estimate(0.02, 25e-4) - estimate(0.0, 25e-4)).norm();
+  EXPECT_GT(exact, 1e-3);
+  EXPECT_LT(erring, 0.5 * exact);
+}
+
 TEST(ConstantVelocityEstimator, RefusesBadInputAndKeepsItsState) {
   DriftScenario scenario;
   ConstantVelocityEstimator<3> estimator = make_estimator();
@@ -114,6 +141,8 @@ TEST(ConstantVelocityEstimator, RefusesBadInputAndKeepsItsState) {
   EXPECT_THROW(estimator.add(-1, scenario.model, u, 0.6), InvalidArgumentError);
   EXPECT_THROW(estimator.reset(2, Eigen::Vector3d::Zero(), -Eigen::Matrix3d::Identity()),
                NotPositiveDefiniteError);
+  EXPECT_THROW(estimator.add(1, scenario.model, u, 0.6, -1e-6), InvalidArgumentError);
+  EXPECT_THROW(estimator.add(1, scenario.model, u, 0.6, std::nan("")), NonFiniteError);
   EXPECT_EQ(estimator.state(), state);
   EXPECT_EQ(estimator.history_size(), 1);
 }

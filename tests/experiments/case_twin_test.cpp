@@ -79,5 +79,50 @@ TEST(CaseTwin, RefusesScannedPartsWhenItsTwinTakesNone) {
   EXPECT_THROW((void)twin.optimum(scanned_assembly(0)), InvalidArgumentError);
 }
 
+// A plant other than the twin (Assumption 1 broken): the controllers' calls see the twin, the
+// plant's calls the plant, both at the same full controls (the uncontrolled locators at the
+// twin's u0); residuals are measured against the plant's own optimum.
+TEST(CaseTwin, MeasuresASeparatePlantWhereTheControllersSeeTheTwin) {
+  const RmsQuadraticTwin full = case_twin_reference(3);
+  RmsQuadraticTwinOptions other_options;
+  other_options.assemblies.dimension = 3;
+  const RmsQuadraticTwin other = RmsQuadraticTwin::generate(other_options, RandomStream(12));
+  const CaseTwin twin(case_twin_erased(full), {0, 2}, case_twin_erased(other));
+  EXPECT_TRUE(twin.separate_plant());
+  const AssemblyId x{4, 6};
+  Eigen::VectorXd u(2);
+  u << 0.1, -0.3;
+  Eigen::VectorXd embedded = full.optimum(x);
+  embedded(0) = u(0);
+  embedded(2) = u(1);
+  EXPECT_EQ(twin.quality(x, u), full.quality(x, embedded));
+  EXPECT_EQ(twin.plant_quality(x, u), other.quality(x, embedded));
+  EXPECT_NE(twin.quality(x, u), twin.plant_quality(x, u));
+  EXPECT_EQ(twin.optimal_quality(x), full.optimal_quality(x));
+  EXPECT_EQ(twin.plant_optimal_quality(x), other.optimal_quality(x));
+  const CaseTwin same(case_twin_erased(full), {0, 2});
+  EXPECT_FALSE(same.separate_plant());
+  EXPECT_EQ(same.plant_optimal_quality(x), same.optimal_quality(x));
+}
+
+TEST(CaseTwin, RefusesAPlantWithOtherLocatorsAndScannedPartsWithAPlant) {
+  const RmsQuadraticTwin full = case_twin_reference(3);
+  try {
+    const CaseTwin twin(case_twin_erased(full), {0}, case_twin_erased(case_twin_reference(4)));
+    FAIL() << "a plant of 4 locators was accepted behind a twin of 3";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_EQ(error.argument(), "plant");
+  }
+  CaseTwin twin(case_twin_erased(full), {0}, case_twin_erased(full));
+  EXPECT_THROW((void)twin.add_scanned(nlohmann::json{{"upper", {1.0}}}), InvalidArgumentError);
+}
+
+TEST(CaseTwin, QuadraticDepartureIsZeroForAQuadraticTwin) {
+  const CaseTwin twin(case_twin_erased(case_twin_reference(3)), {0, 1, 2});
+  const std::uint64_t before = CaseTwin::evaluations_on_this_thread();
+  EXPECT_LT(median_quadratic_departure(twin, 3), 1e-9);
+  EXPECT_EQ(CaseTwin::evaluations_on_this_thread(), before) << "not a controller's evaluations";
+}
+
 }  // namespace
 }  // namespace twincal

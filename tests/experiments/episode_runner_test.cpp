@@ -93,6 +93,27 @@ TEST(RunEpisode, BaselineFollowsTheDocumentedProtocol) {
   EXPECT_FALSE(result.diverged());
 }
 
+TEST(RunEpisode, AssessesTheLostRuleOnItsTrace) {
+  const ExperimentConfig config = episode_config(3, "ABC");
+  const CaseTwin twin = make_case_twin(config);
+  for (const ControllerSpec& spec :
+       {ControllerSpec::baseline(), ControllerSpec::nominal(), ControllerSpec::default_controller(),
+        ControllerSpec::lookahead(0.5)}) {
+    const EpisodeResult result = run_episode(twin, config, spec, 1);
+    EpisodeResult again = result;
+    assess_lost(again);
+    EXPECT_EQ(result.estimate_error_second_half, again.estimate_error_second_half) << spec.label();
+    EXPECT_EQ(result.offset_norm_second_half, again.offset_norm_second_half) << spec.label();
+    EXPECT_EQ(result.lost, again.lost) << spec.label();
+    EXPECT_FALSE(std::isnan(result.offset_norm_second_half)) << spec.label();
+    if (!spec.estimates()) {
+      // No correction: the yardstick itself, never lost.
+      EXPECT_EQ(result.estimate_error_second_half, result.offset_norm_second_half);
+      EXPECT_FALSE(result.lost) << spec.label();
+    }
+  }
+}
+
 TEST(RunEpisode, CountsTheFiltersEvaluations) {
   const ExperimentConfig config = episode_config(3, "ABC");
   const CaseTwin twin = make_case_twin(config);

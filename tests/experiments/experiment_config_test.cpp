@@ -47,6 +47,54 @@ TEST(ExperimentConfig, RoundTripsThroughJson) {
   EXPECT_EQ(back.filter, FilterScheme::cubature);
 }
 
+TEST(ExperimentConfig, RoundTripsTheNonlinearityAndThePlant) {
+  ExperimentConfig config;
+  config.twin_case = TwinCase::analytic;
+  config.nonlinearity = Nonlinearity::stiffening;
+  config.strength = 1.5;
+  const ExperimentConfig back = nlohmann::json(config).get<ExperimentConfig>();
+  EXPECT_EQ(back.nonlinearity, Nonlinearity::stiffening);
+  EXPECT_EQ(back.strength, 1.5);
+  EXPECT_EQ(nlohmann::json(config).at("plant_case"), nullptr);
+  config.nonlinearity = Nonlinearity::none;
+  config.plant_nonlinearity = Nonlinearity::contact;
+  config.plant_strength = 0.5;
+  ASSERT_FALSE(config.validate().has_value()) << *config.validate();
+  const ExperimentConfig plant = nlohmann::json(config).get<ExperimentConfig>();
+  EXPECT_EQ(plant.plant_nonlinearity, Nonlinearity::contact);
+  EXPECT_EQ(plant.plant_strength, 0.5);
+  ExperimentConfig fem;
+  fem.plant_case = TwinCase::door;
+  EXPECT_EQ(nlohmann::json(fem).get<ExperimentConfig>().plant_case, TwinCase::door);
+}
+
+TEST(ExperimentConfig, RefusesANonlinearityOrPlantWhereItCannotBe) {
+  ExperimentConfig config;
+  config.nonlinearity = Nonlinearity::kink;  // case body
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("only the analytic case takes a nonlinearity"),
+            std::string::npos);
+  config = {};
+  config.twin_case = TwinCase::analytic;
+  config.nonlinearity = Nonlinearity::contact;
+  config.strength = 1.5;
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("strength is 1.5"), std::string::npos);
+  config = {};
+  config.plant_nonlinearity = Nonlinearity::contact;  // case body
+  EXPECT_TRUE(config.validate().has_value());
+  config = {};
+  config.twin_case = TwinCase::analytic;
+  config.plant_case = TwinCase::body;
+  EXPECT_TRUE(config.validate().has_value());
+  config = {};
+  config.twin_case = TwinCase::analytic;
+  config.plant_strength = 0.5;
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("plant_strength is set without plant_nonlinearity"),
+            std::string::npos);
+}
+
 TEST(ExperimentConfig, ReadsPartialDocumentsAndLocatorLists) {
   const auto config = nlohmann::json::parse(R"({"case": "door", "locators": ["L1", 4],
                                                 "controllers": "paper", "runs": 3})")

@@ -58,6 +58,34 @@ TEST(ResultStore, AppendsRowsAndRecordsAndReloadsThem) {
   EXPECT_EQ(reopened.groups()[0].at("twin").at("locator_names"), nlohmann::json::array({"B"}));
 }
 
+TEST(ResultStore, RecordsTheLostRuleAndReadsItBackIdentically) {
+  const fs::path dir = store_scratch("lost");
+  const ExperimentGroup group = store_group();
+  const CaseTwin twin = make_case_twin(group.config);
+  EpisodeResult lost = run_episode(twin, group.config, ControllerSpec::lookahead(0.5), 1);
+  lost.estimate_error_second_half = 0.3;  // as assess_lost would record a lost episode
+  lost.offset_norm_second_half = 0.1;
+  lost.lost = true;
+  const EpisodeResult baseline = run_episode(twin, group.config, ControllerSpec::baseline(), 1);
+  std::vector<nlohmann::json> written;
+  {
+    ResultStore store(dir);
+    store.add_group(group, twin);
+    store.append(lost);
+    store.append(baseline);
+    store.write_summary();
+    written = store.episodes();
+  }
+  ASSERT_EQ(written.size(), 2U);
+  EXPECT_EQ(written[0].at("lost"), true);
+  EXPECT_EQ(written[0].at("estimate_error_second_half"), 0.3);
+  EXPECT_EQ(written[0].at("offset_norm_second_half"), 0.1);
+  EXPECT_EQ(written[1].at("lost"), false);
+  EXPECT_EQ(written[1].at("estimate_error_second_half"), written[1].at("offset_norm_second_half"));
+  const ResultStore reopened(dir);
+  EXPECT_EQ(reopened.episodes(), written);
+}
+
 TEST(ResultStore, DropsTheRowsOfAnEpisodeWithoutRecordAndATornRecord) {
   const fs::path dir = store_scratch("torn");
   const ExperimentGroup group = store_group();

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 namespace twincal {
@@ -10,7 +11,7 @@ namespace {
 using nlohmann::json;
 
 json summary_episode(const std::string& controller, Index run, double residual, double error,
-                     bool diverged) {
+                     bool diverged, bool lost = false) {
   return json{{"group", "g"},
               {"controller", controller},
               {"run", run},
@@ -18,7 +19,8 @@ json summary_episode(const std::string& controller, Index run, double residual, 
               {"estimation_error", error},
               {"diverged_at", diverged ? json(4) : json(nullptr)},
               {"seconds_per_assembly", 2e-6 * static_cast<double>(run + 1)},
-              {"q_evaluations_per_assembly", 10.0}};
+              {"q_evaluations_per_assembly", 10.0},
+              {"lost", lost}};
 }
 
 TEST(Summarize, MediansOverTheRunsThatDidNotDivergeAndCountsDivergences) {
@@ -46,6 +48,40 @@ TEST(Summarize, MediansOverTheRunsThatDidNotDivergeAndCountsDivergences) {
   EXPECT_NE(table.find("w=1"), std::string::npos);
 }
 
+TEST(Summarize, CountsLostRunsBesideTheDivergedOnes) {
+  const json groups = json::array(
+      {json{{"name", "g"}, {"config", json{{"controllers", {"baseline", "default"}}}}}});
+  // A lost run may have diverged or not; it stays in the medians unless it diverged.
+  const std::vector<json> episodes{summary_episode("baseline", 0, 0.3, 1.0, false),
+                                   summary_episode("baseline", 1, 0.3, 1.0, false),
+                                   summary_episode("default", 0, 0.9, 3.0, false, true),
+                                   summary_episode("default", 1, 0.1, 0.2, false),
+                                   summary_episode("default", 2, 0.5, 20.0, true, true)};
+  const std::vector<SummaryRow> rows = summarize(groups, episodes);
+  ASSERT_EQ(rows.size(), 2U);
+  EXPECT_EQ(rows[0].lost, 0);
+  EXPECT_EQ(rows[1].runs, 3);
+  EXPECT_EQ(rows[1].divergences, 1);
+  EXPECT_EQ(rows[1].lost, 2);
+  EXPECT_DOUBLE_EQ(rows[1].median_estimation_error, 1.6);  // of 3.0 and 0.2
+  const std::string table = format_summary(rows);
+  EXPECT_THAT(table, ::testing::ContainsRegex("runs +diverged +lost +med"));
+  EXPECT_THAT(table, ::testing::ContainsRegex("baseline +2 +0 +0 "));
+  EXPECT_THAT(table, ::testing::ContainsRegex("default +3 +1 +2 "));
+}
+
+TEST(Summarize, LeavesTheLostCountOpenForRecordsFromBeforeTheRule) {
+  const json groups =
+      json::array({json{{"name", "g"}, {"config", json{{"controllers", {"default"}}}}}});
+  json old = summary_episode("default", 0, 0.1, 0.2, false);
+  old.erase("lost");
+  const std::vector<SummaryRow> rows =
+      summarize(groups, {old, summary_episode("default", 1, 0.1, 0.2, false, true)});
+  ASSERT_EQ(rows.size(), 1U);
+  EXPECT_FALSE(rows[0].lost.has_value());
+  EXPECT_THAT(format_summary(rows), ::testing::ContainsRegex("default +2 +0 +- "));
+}
+
 TEST(Summarize, AllRunsDivergedLeavesNoMedian) {
   const json groups =
       json::array({json{{"name", "g"}, {"config", json{{"controllers", {"default"}}}}}});
@@ -54,6 +90,18 @@ TEST(Summarize, AllRunsDivergedLeavesNoMedian) {
   ASSERT_EQ(rows.size(), 1U);
   EXPECT_TRUE(std::isnan(rows[0].median_relative_residual));
   EXPECT_NE(format_summary(rows).find(" - "), std::string::npos);
+}
+
+TEST(FormatDepartures, OneLinePerGroupWithARecordedDeparture) {
+  const json groups = json::array(
+      {json{{"name", "analytic/all/contact/d=3/s=1"}, {"twin", {{"quadratic_departure", 0.1954}}}},
+       json{{"name", "external/A"}, {"twin", {{"quadratic_departure", nullptr}}}},
+       json{{"name", "old"}, {"twin", {{"dimension", 3}}}}});
+  const std::string text = format_departures(groups);
+  EXPECT_THAT(text, ::testing::HasSubstr("analytic/all/contact/d=3/s=1: Q² departs 0.195"));
+  EXPECT_THAT(text, ::testing::Not(::testing::HasSubstr("external/A")));
+  EXPECT_THAT(text, ::testing::Not(::testing::HasSubstr("old")));
+  EXPECT_EQ(format_departures(json::array()), "");
 }
 
 }  // namespace

@@ -48,6 +48,31 @@ TEST(ScalingStudy, IsOneGroupPerDimensionOnTheAnalyticTwinAndThreeLocatorSetsOnA
   EXPECT_THROW((void)scaling_study(TwinCase::analytic, dimensions, named), InvalidArgumentError);
 }
 
+TEST(NonlinearityStudy, IsOneGroupPerDimensionAndStrength) {
+  ExperimentConfig base;
+  base.nonlinearity = Nonlinearity::stiffening;
+  base.runs = 2;
+  const std::vector<Index> dimensions{3, 12};
+  const std::vector<double> strengths{0.0, 0.5, 2.0};
+  const std::vector<ExperimentGroup> groups = nonlinearity_study(dimensions, strengths, base);
+  ASSERT_EQ(groups.size(), 6U);
+  EXPECT_EQ(groups[4].config.group_name(), "analytic/all/stiffening/d=12/s=0.5");
+  EXPECT_EQ(groups[4].config.twin_case, TwinCase::analytic);
+  EXPECT_EQ(groups[4].config.analytic_dimension, 12);
+  EXPECT_EQ(groups[4].config.strength, 0.5);
+  EXPECT_EQ(groups[4].config.runs, 2);
+  EXPECT_EQ(groups[4].tags, (json{{"study", "nonlinearity"},
+                                  {"nonlinearity", "stiffening"},
+                                  {"dimension", 12},
+                                  {"strength", 0.5}}));
+  ExperimentConfig none;
+  EXPECT_THROW((void)nonlinearity_study(dimensions, strengths, none), InvalidArgumentError);
+  base.nonlinearity = Nonlinearity::contact;
+  const std::vector<double> too_strong{2.0};
+  EXPECT_THROW((void)nonlinearity_study(dimensions, too_strong, base), InvalidArgumentError);
+  EXPECT_THROW((void)nonlinearity_study({}, strengths, base), InvalidArgumentError);
+}
+
 TEST(ExpandSweep, IsTheCartesianProductOfTheAxesLastFastest) {
   const json sweep = json::parse(R"({
     "base": {"case": "analytic", "locators": "ABC", "runs": 2},

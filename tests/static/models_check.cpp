@@ -4,22 +4,29 @@
 #include <concepts>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "twincal/external/external_twin.hpp"
 #include "twincal/models/bouncing_drift.hpp"
 #include "twincal/models/brownian_drift.hpp"
 #include "twincal/models/constant_drift.hpp"
+#include "twincal/models/contact_nonlinearity.hpp"
+#include "twincal/models/deviation_nonlinearity.hpp"
 #include "twincal/models/drift.hpp"
 #include "twincal/models/evaluator.hpp"
 #include "twincal/models/execution.hpp"
-#include "twincal/models/external_twin.hpp"
+#include "twincal/models/key_point_twin.hpp"
+#include "twincal/models/kink_nonlinearity.hpp"
 #include "twincal/models/locator_subset.hpp"
+#include "twincal/models/no_nonlinearity.hpp"
 #include "twincal/models/parallel_execution.hpp"
 #include "twincal/models/quality_feedback.hpp"
 #include "twincal/models/random_walk.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
 #include "twincal/models/rugged_twin.hpp"
 #include "twincal/models/step_drift.hpp"
+#include "twincal/models/stiffening_nonlinearity.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal::static_checks::models {
@@ -67,6 +74,29 @@ static_assert(TwinWithOptimum<Evaluator<RmsQuadraticTwin>>);
 static_assert(Twin<Evaluator<MinimalTwin>> && !TwinWithOptimum<Evaluator<MinimalTwin>>);
 static_assert(Twin<Evaluator<ExternalTwin, ParallelExecution>>);
 static_assert(Twin<Evaluator<Evaluator<MinimalTwin>>>);
+
+// --- DeviationNonlinearity and the key-point twins ----------------------------------------------
+struct NonlinearityWithoutName {
+  void apply(const Eigen::Ref<const VectorX>&, const Eigen::Ref<const VectorX>&,
+             const Eigen::Ref<const VectorX>&, Eigen::Ref<VectorX>) const {}
+};
+struct NonlinearityWithMutableApply {  // apply must be callable on a const policy
+  static constexpr std::string_view name() { return "mutable"; }
+  void apply(const Eigen::Ref<const VectorX>&, const Eigen::Ref<const VectorX>&,
+             const Eigen::Ref<const VectorX>&, Eigen::Ref<VectorX>) {}
+};
+static_assert(DeviationNonlinearity<NoNonlinearity>);
+static_assert(DeviationNonlinearity<ContactNonlinearity>);
+static_assert(DeviationNonlinearity<StiffeningNonlinearity>);
+static_assert(DeviationNonlinearity<KinkNonlinearity>);
+static_assert(!DeviationNonlinearity<NonlinearityWithoutName>);
+static_assert(!DeviationNonlinearity<NonlinearityWithMutableApply>);
+static_assert(!DeviationNonlinearity<int>);
+// The optimum of a nonlinear key-point twin is not known (it is searched); without a
+// nonlinearity it is the affine one.
+static_assert(TwinWithOptimum<KeyPointTwin<NoNonlinearity>>);
+static_assert(Twin<KeyPointTwin<ContactNonlinearity>> &&
+              !TwinWithOptimum<KeyPointTwin<ContactNonlinearity>>);
 
 // --- Execution -------------------------------------------------------------------------------
 static_assert(Execution<SerialExecution>);

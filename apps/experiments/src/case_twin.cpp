@@ -10,7 +10,9 @@
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/experiments/scanned_assembly.hpp"
+#include "twincal/core/random_stream.hpp"
 #include "twincal/models/locator_subset.hpp"
+#include "twincal/models/quadratic_departure.hpp"
 
 namespace twincal {
 namespace {
@@ -28,8 +30,8 @@ Eigen::Block<MatrixX, Dynamic, Dynamic, true> full_controls(Index rows, Index co
 
 }  // namespace
 
-CaseTwin::CaseTwin(AnyTwin twin, std::vector<Index> locators)
-    : twin_(std::move(twin)), locators_(std::move(locators)) {
+CaseTwin::CaseTwin(AnyTwin twin, std::vector<Index> locators, std::optional<AnyTwin> plant)
+    : twin_(std::move(twin)), plant_(std::move(plant)), locators_(std::move(locators)) {
   const Index d = twin_.control_dimension();
   require_locator_indices(locators_, d);
   const std::vector<AssemblyId>& all = twin_.assemblies();
@@ -69,6 +71,22 @@ CaseTwin::CaseTwin(AnyTwin twin, std::vector<Index> locators)
     require_finite("z*", z_star);
     store_optimum(j, twin_.optimum(a), z_star);
   }
+  if (plant_) {
+    if (plant_->control_dimension() != d || plant_->locator_names() != twin_.locator_names() ||
+        plant_->assemblies() != all) {
+      throw InvalidArgumentError(
+          "plant",
+          fmt::format("plant: has {} locators and {} assemblies against the twin's {} "
+                      "and {}; rule: the plant must have the twin's locators and "
+                      "assemblies",
+                      plant_->control_dimension(), plant_->assemblies().size(), d, all.size()));
+    }
+    plant_optimal_qualities_.resize(n);
+    for (Index j = 0; j < n; ++j) {
+      plant_optimal_qualities_(j) = plant_->optimal_quality(all[static_cast<std::size_t>(j)]);
+      require_finite("plant z*", plant_optimal_qualities_(j));
+    }
+  }
 }
 
 void CaseTwin::store_optimum(Index j, const VectorX& full, double z_star) {
@@ -80,6 +98,12 @@ void CaseTwin::store_optimum(Index j, const VectorX& full, double z_star) {
 
 AssemblyId CaseTwin::add_scanned(const nlohmann::json& parts,
                                  const std::optional<ScannedOptimum>& known) {
+  if (plant_) {
+    throw InvalidArgumentError(
+        "parts",
+        "parts: are given to a case whose plant is a simulated twin; rule: scanned "
+        "parts come from a real cell, which is its own plant");
+  }
   const AssemblyId id = twin_.add_scanned(parts, known);
   const std::optional<Index> k = scanned_index(id);
   if (!k) {
@@ -139,17 +163,22 @@ void CaseTwin::embed(Index position, const Eigen::Ref<const MatrixX>& controls,
   }
 }
 
-double CaseTwin::plant_quality(const AssemblyId& assembly,
-                               const Eigen::Ref<const VectorX>& control) const {
+double CaseTwin::evaluate(const AnyTwin& model, const AssemblyId& assembly,
+                          const Eigen::Ref<const VectorX>& control) const {
   require_control(control, control_dimension());
   Eigen::Block<MatrixX, Dynamic, Dynamic, true> full = full_controls(twin_.control_dimension(), 1);
   embed(position(assembly), control, full);
-  return twin_.quality(assembly, full.col(0));
+  return model.quality(assembly, full.col(0));
+}
+
+double CaseTwin::plant_quality(const AssemblyId& assembly,
+                               const Eigen::Ref<const VectorX>& control) const {
+  return evaluate(plant_ ? *plant_ : twin_, assembly, control);
 }
 
 double CaseTwin::quality(const AssemblyId& assembly,
                          const Eigen::Ref<const VectorX>& control) const {
-  const double value = plant_quality(assembly, control);
+  const double value = evaluate(twin_, assembly, control);
   ++evaluations;
   return value;
 }
@@ -165,5 +194,22 @@ void CaseTwin::quality_batch(const AssemblyId& assembly, const Eigen::Ref<const 
 }
 
 std::uint64_t CaseTwin::evaluations_on_this_thread() noexcept { return evaluations; }
+
+double median_quadratic_departure(const CaseTwin& twin, Index assemblies) {
+  const std::vector<AssemblyId>& all = twin.assemblies();
+  const Index count = std::min(assemblies, std::ssize(all));
+  std::vector<double> departures;
+  const std::uint64_t before = evaluations;
+  for (Index k = 0; k < count; ++k) {
+    const AssemblyId& x = all[static_cast<std::size_t>(k)];
+    departures.push_back(quadratic_departure(twin, x, twin.optimum(x),
+                                             RandomStream(static_cast<std::uint64_t>(k))));
+  }
+  evaluations = before;  // a property of the twin, not of any controller's step
+  if (departures.empty()) return 0.0;
+  std::sort(departures.begin(), departures.end());
+  const std::size_t n = departures.size();
+  return n % 2 == 1 ? departures[n / 2] : 0.5 * (departures[n / 2 - 1] + departures[n / 2]);
+}
 
 }  // namespace twincal

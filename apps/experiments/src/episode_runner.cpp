@@ -164,7 +164,7 @@ void simulate(AnyController& controller, const EpisodeSetup& setup,
       elapsed += watch.seconds();
 
       result.z(t) = z;
-      result.z_star(t) = twin.optimal_quality(x);
+      result.z_star(t) = twin.plant_optimal_quality(x);
       result.control.col(t) = u;
       result.offset.col(t) = drift.offset();
       controller.offset_estimate(result.estimate.col(t));
@@ -266,6 +266,7 @@ EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
   } else {
     detail::simulate<Dynamic>(episode_controller, setup, order, result);
   }
+  assess_lost(result);
   return result;
 }
 

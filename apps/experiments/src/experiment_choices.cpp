@@ -14,10 +14,16 @@ namespace {
 template <typename Enum, std::size_t Size>
 using NameTable = std::array<std::pair<Enum, std::string_view>, Size>;
 
-constexpr NameTable<TwinCase, 4> twin_case_names{{{TwinCase::body, "body"},
+constexpr NameTable<TwinCase, 6> twin_case_names{{{TwinCase::body, "body"},
                                                   {TwinCase::door, "door"},
                                                   {TwinCase::analytic, "analytic"},
-                                                  {TwinCase::external, "external"}}};
+                                                  {TwinCase::external, "external"},
+                                                  {TwinCase::body_contact, "body-contact"},
+                                                  {TwinCase::door_contact, "door-contact"}}};
+constexpr NameTable<Nonlinearity, 4> nonlinearity_names{{{Nonlinearity::none, "none"},
+                                                         {Nonlinearity::contact, "contact"},
+                                                         {Nonlinearity::stiffening, "stiffening"},
+                                                         {Nonlinearity::kink, "kink"}}};
 constexpr NameTable<FilterScheme, 5> filter_scheme_names{
     {{FilterScheme::merwe, "merwe"},
      {FilterScheme::julier, "julier"},
@@ -58,6 +64,9 @@ Enum parse(const NameTable<Enum, Size>& table, std::string_view text, std::strin
 }  // namespace
 
 std::string_view to_string(TwinCase value) noexcept { return name_of(twin_case_names, value); }
+std::string_view to_string(Nonlinearity value) noexcept {
+  return name_of(nonlinearity_names, value);
+}
 std::string_view to_string(FilterScheme value) noexcept {
   return name_of(filter_scheme_names, value);
 }
@@ -70,6 +79,9 @@ std::string_view to_string(ExplorationKind value) noexcept {
 
 TwinCase parse_twin_case(std::string_view text, std::string_view what) {
   return parse(twin_case_names, text, what);
+}
+Nonlinearity parse_nonlinearity(std::string_view text, std::string_view what) {
+  return parse(nonlinearity_names, text, what);
 }
 FilterScheme parse_filter_scheme(std::string_view text, std::string_view what) {
   return parse(filter_scheme_names, text, what);

@@ -20,7 +20,8 @@ std::string ExperimentConfig::group_name() const {
 
 double ExperimentConfig::filter_measurement_variance() const {
   if (measurement_variance) return *measurement_variance;
-  return twin_case == TwinCase::door ? 1e-6 : 1e-4;  // the paper's σz², Sec. 2.4
+  // The paper's σz², Sec. 2.4; the door with contact is the door.
+  return twin_case == TwinCase::door || twin_case == TwinCase::door_contact ? 1e-6 : 1e-4;
 }
 
 Index ExperimentConfig::candidate_count(Index d) const {
@@ -61,6 +62,49 @@ std::optional<std::string> ExperimentConfig::validate() const {
         "analytic_dimension is {}; rule: must lie in [1, {}] (the analytic twin "
         "holds and factors a d x d curvature)",
         analytic_dimension, max_analytic_dimension);
+  }
+  if (!(strength >= 0.0) || !std::isfinite(strength) ||
+      (nonlinearity == Nonlinearity::contact && strength > 1.0)) {
+    return fmt::format(
+        "strength is {}; rule: must be finite and >= 0, and <= 1 with the contact nonlinearity",
+        strength);
+  }
+  if (nonlinearity != Nonlinearity::none && twin_case != TwinCase::analytic) {
+    return fmt::format(
+        "nonlinearity is \"{}\" with case \"{}\"; rule: only the analytic case "
+        "takes a nonlinearity",
+        to_string(nonlinearity), to_string(twin_case));
+  }
+  if (plant_case && plant_nonlinearity) {
+    return "plant_case and plant_nonlinearity are both set; rule: the plant is another case or "
+           "the analytic twin with a nonlinearity, not both";
+  }
+  if (plant_case && (*plant_case == TwinCase::external || twin_case == TwinCase::external ||
+                     *plant_case == TwinCase::analytic || twin_case == TwinCase::analytic)) {
+    return fmt::format(
+        "plant_case is \"{}\" with case \"{}\"; rule: a separate plant case is for the FEM "
+        "cases (the analytic case takes plant_nonlinearity; an external twin is its own plant)",
+        to_string(*plant_case), to_string(twin_case));
+  }
+  if (plant_nonlinearity && twin_case != TwinCase::analytic) {
+    return fmt::format(
+        "plant_nonlinearity is \"{}\" with case \"{}\"; rule: only the analytic "
+        "case takes a plant nonlinearity",
+        to_string(*plant_nonlinearity), to_string(twin_case));
+  }
+  if (plant_strength) {
+    const double s = *plant_strength;
+    if (!plant_nonlinearity) {
+      return "plant_strength is set without plant_nonlinearity; rule: it is the plant "
+             "nonlinearity's strength";
+    }
+    if (!(s >= 0.0) || !std::isfinite(s) ||
+        (*plant_nonlinearity == Nonlinearity::contact && s > 1.0)) {
+      return fmt::format(
+          "plant_strength is {}; rule: must be finite and >= 0, and <= 1 with the contact "
+          "nonlinearity",
+          s);
+    }
   }
   if ((twin_case == TwinCase::external) != external_twin.has_value()) {
     return fmt::format(
@@ -147,6 +191,20 @@ Field choice(Enum ExperimentConfig::*member, std::string_view key,
           }};
 }
 
+template <typename Enum>
+Field optional_choice(std::optional<Enum> ExperimentConfig::*member, std::string_view key,
+                      Enum (*parse)(std::string_view, std::string_view)) {
+  return {[member, key](json& j, const ExperimentConfig& c) {
+            j[std::string(key)] =
+                c.*member ? json(std::string(to_string(*(c.*member)))) : json(nullptr);
+          },
+          [member, key, parse](const json& v, ExperimentConfig& c) {
+            c.*member = v.is_null()
+                            ? std::nullopt
+                            : std::optional<Enum>(parse(value_as<std::string>(v, key), key));
+          }};
+}
+
 const std::map<std::string, Field, std::less<>>& fields() {
   static const std::map<std::string, Field, std::less<>> table = [] {
     std::map<std::string, Field, std::less<>> t;
@@ -154,6 +212,14 @@ const std::map<std::string, Field, std::less<>>& fields() {
     t["case"] = choice(&ExperimentConfig::twin_case, "case", &parse_twin_case);
     t["twin_seed"] = plain(&ExperimentConfig::twin_seed, "twin_seed");
     t["analytic_dimension"] = plain(&ExperimentConfig::analytic_dimension, "analytic_dimension");
+    t["nonlinearity"] =
+        choice(&ExperimentConfig::nonlinearity, "nonlinearity", &parse_nonlinearity);
+    t["strength"] = plain(&ExperimentConfig::strength, "strength");
+    t["plant_case"] =
+        optional_choice(&ExperimentConfig::plant_case, "plant_case", &parse_twin_case);
+    t["plant_nonlinearity"] = optional_choice(&ExperimentConfig::plant_nonlinearity,
+                                              "plant_nonlinearity", &parse_nonlinearity);
+    t["plant_strength"] = optional(&ExperimentConfig::plant_strength, "plant_strength");
     t["external_twin"] = optional(&ExperimentConfig::external_twin, "external_twin");
     t["locators"] = {[](json& j, const ExperimentConfig& c) { j["locators"] = c.locators; },
                      [](const json& v, ExperimentConfig& c) {

@@ -76,7 +76,10 @@ json episode_metrics_json(const EpisodeResult& result) {
               {"diverged_at", result.diverged() ? json(result.diverged_at) : json(nullptr)},
               {"seconds_per_assembly", number_json(result.seconds_per_assembly)},
               {"q_evaluations_per_assembly", number_json(result.q_evaluations_per_assembly)},
-              {"failure", result.failure}};
+              {"failure", result.failure},
+              {"estimate_error_second_half", number_json(result.estimate_error_second_half)},
+              {"offset_norm_second_half", number_json(result.offset_norm_second_half)},
+              {"lost", result.lost}};
 }
 
 ResultStore::ResultStore(fs::path directory) : directory_(std::move(directory)) {
@@ -209,6 +212,11 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
     if (!group.tags.empty()) stored["tags"] = group.tags;
     return;
   }
+  // A new group: how far its Q² is from a quadratic (an external twin's evaluations are its
+  // cost, so it is not measured there).
+  twin_json["quadratic_departure"] =
+      config.twin_case == TwinCase::external ? json(nullptr)
+                                             : json(median_quadratic_departure(twin));
   groups_.push_back(
       json{{"name", name}, {"config", config}, {"tags", group.tags}, {"twin", twin_json}});
 }

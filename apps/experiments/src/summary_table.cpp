@@ -48,6 +48,8 @@ std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& e
     std::vector<double> residuals, errors, seconds, evaluations;
     Index runs = 0;
     Index divergences = 0;
+    Index lost = 0;
+    bool lost_known = true;
   };
   std::map<std::pair<std::string, std::string>, Collected> collected;
   for (const json& episode : episodes) {
@@ -60,6 +62,12 @@ std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& e
       c.residuals.push_back(value_or_nan(episode, "relative_residual"));
       c.errors.push_back(value_or_nan(episode, "estimation_error"));
     }
+    const auto lost = episode.find("lost");
+    if (lost == episode.end()) {
+      c.lost_known = false;
+    } else if (lost->get<bool>()) {
+      ++c.lost;
+    }
     c.seconds.push_back(value_or_nan(episode, "seconds_per_assembly"));
     c.evaluations.push_back(value_or_nan(episode, "q_evaluations_per_assembly"));
   }
@@ -70,8 +78,9 @@ std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& e
       const auto it = collected.find({name, label.get<std::string>()});
       if (it == collected.end()) continue;
       const Collected& c = it->second;
-      rows.push_back({name, label.get<std::string>(), c.runs, c.divergences, median(c.residuals),
-                      median(c.errors), mean(c.seconds), mean(c.evaluations)});
+      rows.push_back({name, label.get<std::string>(), c.runs, c.divergences,
+                      c.lost_known ? std::optional<Index>(c.lost) : std::nullopt,
+                      median(c.residuals), median(c.errors), mean(c.seconds), mean(c.evaluations)});
     }
   }
   return rows;
@@ -84,15 +93,30 @@ std::string format_summary(const std::vector<SummaryRow>& rows) {
     group_width = std::max(group_width, row.group.size());
     controller_width = std::max(controller_width, row.controller.size());
   }
-  std::string out = fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", "group",
-                                group_width, "controller", controller_width, "runs", "diverged",
-                                "med (z-z*)/z*", "med |du-du*|", "us/assembly", "Q/assembly");
+  std::string out =
+      fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>5} {:>12} {:>12} {:>12} {:>10}\n", "group",
+                  group_width, "controller", controller_width, "runs", "diverged", "lost",
+                  "med (z-z*)/z*", "med |du-du*|", "us/assembly", "Q/assembly");
   for (const SummaryRow& row : rows) {
-    out += fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>12} {:>12} {:>12} {:>10}\n", row.group,
+    out += fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>5} {:>12} {:>12} {:>12} {:>10}\n", row.group,
                        group_width, row.controller, controller_width, row.runs, row.divergences,
+                       row.lost ? fmt::format("{}", *row.lost) : "-",
                        cell(row.median_relative_residual, 4), cell(row.median_estimation_error, 4),
                        cell(1e6 * row.seconds_per_assembly, 1),
                        cell(row.q_evaluations_per_assembly, 1));
+  }
+  return out;
+}
+
+std::string format_departures(const json& groups) {
+  std::string out;
+  for (const json& group : groups) {
+    if (!group.contains("twin") || !group.at("twin").contains("quadratic_departure")) continue;
+    const json& departure = group.at("twin").at("quadratic_departure");
+    if (departure.is_null()) continue;
+    out += fmt::format("{}: Q² departs {:.3f} from a quadratic (RMS residual of its best quadratic "
+                       "fit over u0 ± ¼ box, / its sd; median of 10 assemblies)\n",
+                       group.at("name").get<std::string>(), departure.get<double>());
   }
   return out;
 }

@@ -104,6 +104,41 @@ std::vector<ExperimentGroup> scaling_study(TwinCase twin_case, std::span<const I
   return groups;
 }
 
+std::vector<ExperimentGroup> nonlinearity_study(std::span<const Index> dimensions,
+                                                std::span<const double> strengths,
+                                                const ExperimentConfig& base) {
+  require_unnamed(base);
+  if (base.nonlinearity == Nonlinearity::none) {
+    throw InvalidArgumentError("nonlinearity",
+                               "nonlinearity: is none; rule: the study varies the strength of "
+                               "contact, stiffening or kink");
+  }
+  if (dimensions.empty() || strengths.empty()) {
+    throw InvalidArgumentError("dimensions, strengths",
+                               fmt::format("dimensions, strengths: {} and {} values; rule: both "
+                                           "need at least one",
+                                           dimensions.size(), strengths.size()));
+  }
+  std::vector<ExperimentGroup> groups;
+  const std::string_view kind = to_string(base.nonlinearity);
+  for (const Index d : dimensions) {
+    for (const double s : strengths) {
+      ExperimentGroup group{base, json{{"study", "nonlinearity"},
+                                       {"nonlinearity", kind},
+                                       {"dimension", d},
+                                       {"strength", s}}};
+      group.config.twin_case = TwinCase::analytic;
+      group.config.locators = "all";
+      group.config.analytic_dimension = d;
+      group.config.strength = s;
+      group.config.name = fmt::format("analytic/all/{}/d={}/s={}", kind, d, s);
+      require_valid("config", group.config);
+      groups.push_back(std::move(group));
+    }
+  }
+  return groups;
+}
+
 std::vector<ExperimentGroup> expand_sweep(const json& sweep) {
   if (!sweep.is_object() || !sweep.contains("base") || !sweep.at("base").is_object()) {
     throw InvalidArgumentError("sweep",

@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <exception>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <Eigen/Core>
@@ -70,6 +71,7 @@ namespace twincal {
 struct ActiveStepReport {
   bool quadratic = false;              ///< estimated with the twin's quadratic model
   double model_error = 0.0;            ///< largest relative error of the model at the check points
+  double model_variance = 0.0;         ///< τ², the variance of the model's error in Q (estimator)
   bool hessian_refitted = false;       ///< this assembly paid for a full fit of H
   double probe_norm = 0.0;             ///< |p|
   double horizon = 0.0;                ///< T of the probe design
@@ -124,10 +126,14 @@ class ActiveCalibrationController {
     const VectorX width = twin.upper_bounds() - twin.lower_bounds();
     max_probe_ = options_.max_probe_fraction * width;
     max_offset_ = options_.max_offset_fraction * width;
+    check_margin_ = options_.surrogate.step_fraction * width;
     covariance_ceiling_ = std::pow(options_.covariance_ceiling_fraction * width.minCoeff(), 2);
     probe_vector_.resize(d);
     control_.resize(d);
+    model_center_.resize(d);
     check_points_.resize(d, 2);
+    recent_innovations_.assign(static_cast<std::size_t>(options_.trajectory.change_window) + 3,
+                               0.0);
     const Index m = scheme_.num_points(d);
     mean_weights_.resize(m);
     covariance_weights_.resize(m);
@@ -155,18 +161,29 @@ class ActiveCalibrationController {
 
     quadratic_ = false;
     std::uint64_t evaluations = 0;
+    time_ = assemblies_;
     if (assemblies_ >= retry_at_) {
+      // The model is fitted where the twin will be evaluated if the estimate is right: at the
+      // twin-frame control u − δû without the probe, inside the box (for a twin whose Q² is a
+      // quadratic, anywhere is the same).
+      if (estimator_.fit_time() != time_) estimator_.fit(time_);
+      const bool correct = (estimator_.significant() || restarted_) && !harmful();
+      model_center_ = center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
+      if (correct)
+        model_center_ += estimator_.position().cwiseMax(-max_offset_).cwiseMin(max_offset_);
+      model_center_ -= estimator_.position();
+      // Within the twin's box, where it is defined (a lost estimate points outside it).
+      model_center_ = model_center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
       try {
-        evaluations += fit_model(assembly);
+        evaluations += fit_model(assembly, estimator_.position_covariance());
       } catch (const std::exception& error) {
         report_.fallback = error.what();  // fit_model sets quadratic_ only once it succeeds
       }
       if (!quadratic_) retry_at_ = assemblies_ + options_.quadratic_retry;
     }
     step_.quadratic = quadratic_;
-    time_ = assemblies_++;
+    ++assemblies_;
     if (quadratic_) {
-      if (estimator_.fit_time() != time_) estimator_.fit(time_);
       mean_ = estimator_.position();
       covariance_ = estimator_.position_covariance();
     } else {
@@ -203,6 +220,9 @@ class ActiveCalibrationController {
     // corrected (the baseline's u0 plus the probe): a twin whose quality hardly depends on the
     // offset would otherwise be corrected by a fit of its model's errors.
     step_.corrected = !quadratic_ || estimator_.significant() || restarted_;
+    // Do no harm where the model is known to err: an estimate that keeps failing to predict the
+    // plant is not applied (the control falls back to u0 + p) until it predicts again.
+    if (step_.model_variance > 0.0 && harmful()) step_.corrected = false;
     control_ =
         (center_ + probe_vector_).cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
     if (step_.corrected) control_ += mean_.cwiseMax(-max_offset_).cwiseMin(max_offset_);
@@ -261,36 +281,82 @@ class ActiveCalibrationController {
   [[nodiscard]] const QuadraticModel<N>& model() const noexcept { return model_; }
 
  private:
-  // Fits the quadratic model at u0 and checks it at u0 ± (2·sqrt(diag P) + h) in a sign
-  // pattern; a failed check with a kept H refits H once. Sets quadratic_.
-  std::uint64_t fit_model(const Assembly& assembly) {
+  // Fits the quadratic model at model_center_ and checks it at model_center_ ± (2·sqrt(diag P)
+  // + h) in a sign pattern, P the offset's covariance and h the surrogate's step (where the
+  // model will be used: within the estimate's uncertainty of the point it expects); a failed
+  // check with a kept H refits H once. Sets quadratic_.
+  std::uint64_t fit_model(const Assembly& assembly, const CovarianceMatrix& covariance) {
     std::uint64_t evaluations = 0;
     for (int attempt = 0; attempt < 2; ++attempt) {
       const bool refit = surrogate_.hessian_stale();
       step_.hessian_refitted = step_.hessian_refitted || refit;
-      evaluations += surrogate_.fit(assembly, center_, model_);
+      evaluations += surrogate_.fit(assembly, model_center_, model_);
       const Index d = dimension();
       for (Index i = 0; i < d; ++i) {
-        const double reach = 2.0 * std::sqrt(covariance_(i, i)) + 0.5 * max_probe_(i);
-        check_points_(i, 0) = center_(i) + ((i % 2 == 0) ? reach : -reach);
-        check_points_(i, 1) = center_(i) - ((i / 2) % 2 == 0 ? reach : -reach);
+        const double reach = 2.0 * std::sqrt(covariance(i, i)) + check_margin_(i);
+        check_points_(i, 0) = model_center_(i) + ((i % 2 == 0) ? reach : -reach);
+        check_points_(i, 1) = model_center_(i) - ((i / 2) % 2 == 0 ? reach : -reach);
       }
       evaluations += surrogate_.check(assembly, model_, check_points_, step_.model_error);
       quadratic_ = step_.model_error <= options_.surrogate.tolerance;
       if (quadratic_ || refit) break;
       surrogate_.invalidate_hessian();
     }
+    step_.model_variance = 0.0;
+    if (!quadratic_ && options_.weigh_model_error) {
+      weigh_model_error(covariance);
+      quadratic_ = true;
+    }
     return evaluations;
+  }
+
+  // τ², the variance of the model's error in Q where the plant is expected: about one standard
+  // deviation of P from the model's centre (ρ·R in units of the check's reach R = 2√P_ii + h,
+  // ρ² = mean P_ii/R_i²), not at R. At the check the model errs by ε·c in Q², so by
+  // ε·c/(2√c) = ε√c/2 in Q; the error is taken to grow with the fourth power of the distance
+  // (a quadratic's error against a quartic such as stiffening), ε(ρR) = ε(R) ρ⁴. Measured on
+  // contact, stiffening and kink twins at d = 3 and 12 (docs/reproduction.md, "Black-box
+  // twins"): a τ that grows more slowly (ρ², ρ, or the growth measured by a second check at
+  // R/2) weighs good assemblies as if their model failed and loses the offset more often; τ = 0
+  // does about as well as ρ⁴ except on contact.
+  void weigh_model_error(const CovarianceMatrix& covariance) {
+    const Index d = dimension();
+    double reach_fraction = 0.0;
+    for (Index i = 0; i < d; ++i) {
+      const double reach = 2.0 * std::sqrt(covariance(i, i)) + check_margin_(i);
+      reach_fraction += covariance(i, i) / (reach * reach);
+    }
+    reach_fraction /= static_cast<double>(d);
+    const double error = 0.5 * step_.model_error * std::sqrt(std::max(model_.value, 0.0)) *
+                         reach_fraction * reach_fraction;
+    step_.model_variance = error * error;
   }
 
   // The estimator's update: z joins the history, and the estimate moves to the next assembly.
   void update_estimator(const ControlVector& control, double z) {
-    step_.normalized_innovation = estimator_.add(time_, model_, control, z);
+    step_.normalized_innovation = estimator_.add(time_, model_, control, z, step_.model_variance);
+    recent_innovations_[innovation_count_ % recent_innovations_.size()] =
+        step_.normalized_innovation;
+
+    ++innovation_count_;
     estimator_.fit(time_ + 1);
     step_.velocity_change = estimator_.changed();
     step_.history = estimator_.history_size();
     mean_ = estimator_.position();
     covariance_ = estimator_.position_covariance();
+  }
+
+  // Do no harm: innovations beyond the gate (innovation_gate σ) in more of the last
+  // change_window + 3 assemblies than a change of velocity explains (its change_window assemblies
+  // before the estimator restarts, and one more) mean the estimate does not predict the plant, so
+  // applying it could cost more than it buys. (Measured on contact twins, d = 3 and 12: a majority
+  // of the five halves what contact at d = 3 gains; all five lets d = 12 run 1.4× the baseline.)
+  [[nodiscard]] bool harmful() const noexcept {
+    const double gate2 = options_.innovation_gate * options_.innovation_gate;
+    const std::size_t kept = std::min(recent_innovations_.size(), innovation_count_);
+    std::size_t beyond = 0;
+    for (std::size_t i = 0; i < kept; ++i) beyond += recent_innovations_[i] > gate2 ? 1U : 0U;
+    return beyond >= static_cast<std::size_t>(options_.trajectory.change_window) + 2;
   }
 
   // The unscented update of z (filters' measurement_statistics, as SigmaPointFilter's).
@@ -368,10 +434,12 @@ class ActiveCalibrationController {
   CovarianceMatrix covariance_;
   double process_variance_ = 0.0;
   ControlVector max_offset_;
+  ControlVector check_margin_;
   ControlVector max_probe_;  // the ProbeContext's type: no converted temporary per assembly
   double covariance_ceiling_ = 0.0;
   // Per-assembly state and workspaces, sized once.
-  ControlVector center_;
+  ControlVector center_;        // u0
+  ControlVector model_center_;  // where the model is fitted: the expected twin-frame control
   ControlVector probe_vector_;
   ControlVector control_;
   MatrixX check_points_;
@@ -384,6 +452,8 @@ class ActiveCalibrationController {
   VectorX point_values_;
   MeasurementPreview<N, Dynamic> sigma_preview_;
   ControlVector gain_;
+  std::vector<double> recent_innovations_;  // ν²/S of the last change_window + 3 (a ring)
+  std::size_t innovation_count_ = 0;
   bool quadratic_ = false;
   bool pending_ = false;
   Index assemblies_ = 0;

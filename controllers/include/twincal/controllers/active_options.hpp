@@ -49,8 +49,17 @@ struct ActiveOptions {
   double covariance_ceiling_fraction = 1.0;
   /// How the twin's local quadratic model is fitted and checked.
   QuadraticSurrogateOptions surrogate{};
-  /// Assemblies updated with sigma points after the model failed its check, before trying again.
+  /// Assemblies updated with sigma points after the model failed its check, before trying again
+  /// (only with weigh_model_error = false, or when fitting the model fails outright).
   Index quadratic_retry = 25;
+  /// A twin whose local model fails its check (Q² is not a quadratic there: contact, stiffening,
+  /// kinks) is still estimated with the model, each assembly's residual given the variance
+  /// σz² + τ², τ = the model's relative error at the check points · √c / 2 (the error it implies
+  /// in Q): an assembly the model explains badly weighs less, the offset must be shown by more
+  /// of them before the control is corrected, and the estimate keeps its velocity model. false:
+  /// such assemblies go to the random-walk sigma-point filter (the behaviour before
+  /// 2026-11-25, which loses the offset on non-quadratic twins; docs/reproduction.md).
+  bool weigh_model_error = true;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };

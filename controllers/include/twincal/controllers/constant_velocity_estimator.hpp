@@ -10,6 +10,9 @@
 /// twin's local model Q²(x_k, v) ≈ c_k + 2 g_kᵀ(v − u0_k) + (v − u0_k)ᵀ H_k (v − u0_k)
 /// (quadratic_model.hpp); the plant measures z_k = Q(x_k, u_k − δu_k) + N(0, σz²) (eq. 5b), so
 ///   z_k ≈ m_k(a, b) = sqrt(c_k + 2 g_kᵀ r_k + r_kᵀ H_k r_k),   r_k = u_k − u0_k − δu_k.
+/// Each assembly's residual z_k − m_k has variance σz² + τ_k², τ_k² the variance of its model's
+/// own error (0 for a twin whose Q² is a quadratic; see add()), so an assembly whose model
+/// explains the twin badly weighs less.
 /// The estimate is the maximum a posteriori (a, b) under a Gaussian prior, found by Gauss–Newton
 /// with step halving, and its covariance the inverse of the Gauss–Newton matrix there (Laplace).
 /// Unlike a random-walk filter, it follows a drift without lag: with consistent data the estimate
@@ -83,6 +86,7 @@ class ConstantVelocityEstimator {
     half_gradients_.resize(d, capacity);
     hessians_.resize(d, d * capacity);
     qualities_.resize(capacity);
+    weights_.resize(capacity);
     const Index lags = options_.change_lag + 1;
     snapshot_times_.assign(static_cast<std::size_t>(lags), 0);
     snapshot_states_.resize(s, lags);
@@ -172,15 +176,20 @@ class ConstantVelocityEstimator {
   }
 
   /// Adds assembly `time` (≥ every time in the history), measured at `control` with quality z
-  /// under `model`, to the history. Returns the normalized innovation ν²/S of z against the
+  /// under `model`, whose error as a model of the twin's Q has variance `model_variance`
+  /// (added to σz²), to the history. Returns the normalized innovation ν²/S of z against the
   /// estimate at `time` before it (fitted first if it is not the last fit).
-  /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError (time); state unchanged.
-  double add(Index time, const QuadraticModel<N>& model, const OffsetVector& control, double z) {
+  /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError (time, a negative
+  ///         model_variance); state unchanged.
+  double add(Index time, const QuadraticModel<N>& model, const OffsetVector& control, double z,
+             double model_variance = 0.0) {
     const Index d = dimension();
     require_dimension("control", control.size(), d);
     require_dimension("model", model.dimension(), d);
     require_finite("control", control);
     require_finite("z", z);
+    require_finite("model_variance", model_variance);
+    require_non_negative("model_variance", model_variance);
     if (size_ > 0 && time < time_of(size_ - 1)) {
       throw InvalidArgumentError(
           "time", fmt::format("time: value is {}; rule: must be >= the last time in the history, "
@@ -208,12 +217,13 @@ class ConstantVelocityEstimator {
       clip_hessian(i);
     }
     qualities_(i) = z;
+    weights_(i) = 1.0 / (measurement_variance_ + model_variance);
     ++size_;
 
     // The innovation of z against the prediction at `time` (a = position_, τ = 0).
     const double residual = residual_at(size_ - 1, state_, time);
     curvature_error_.noalias() = position_covariance_ * slope_;
-    const double variance = measurement_variance_ + slope_.dot(curvature_error_);
+    const double variance = 1.0 / weights_(slot(size_ - 1)) + slope_.dot(curvature_error_);
     return residual * residual / variance;
   }
 
@@ -332,21 +342,23 @@ class ConstantVelocityEstimator {
     return qualities_(s) - std::sqrt(floor);
   }
 
-  // Residuals and Jacobian of the history at `state`; returns the data cost Σ e²/σz².
+  // Normalized residuals e_k/σ_k and their Jacobian of the history at `state`; returns the data
+  // cost Σ e_k²/σ_k², σ_k² = σz² + τ_k².
   double evaluate(const StateVector& state, Index time, bool jacobian) {
     const Index d = dimension();
     double cost = 0.0;
     for (Index i = 0; i < size_; ++i) {
-      const double e = residual_at(i, state, time);
+      const double scale = std::sqrt(weights_(slot(i)));
+      const double e = scale * residual_at(i, state, time);
       residuals_(i) = e;
       cost += e * e;
       if (jacobian) {
         const double tau = static_cast<double>(time_of(i) - time);
-        jacobian_.row(i).head(d) = slope_.transpose();
-        jacobian_.row(i).tail(d) = tau * slope_.transpose();
+        jacobian_.row(i).head(d) = scale * slope_.transpose();
+        jacobian_.row(i).tail(d) = (scale * tau) * slope_.transpose();
       }
     }
-    return cost / measurement_variance_;
+    return cost;
   }
 
   // Gauss–Newton with step halving from `start`; writes the minimizer to `out` and returns the
@@ -387,16 +399,15 @@ class ConstantVelocityEstimator {
     return difference_.dot(weighted_difference_);
   }
 
-  // normal_ = JᵀJ/σz² + Λ, gradient_ = Jᵀe/σz² − Λ(θ − μ), factored; needs evaluate(·, true).
+  // normal_ = JᵀJ + Λ, gradient_ = Jᵀe − Λ(θ − μ) (J and e normalized by σ_k), factored; needs
+  // evaluate(·, true).
   void assemble(const StateVector& state) {
     const Index n = size_;
     normal_ = prior_precision_;
-    normal_.noalias() +=
-        jacobian_.topRows(n).transpose() * jacobian_.topRows(n) / measurement_variance_;
+    normal_.noalias() += jacobian_.topRows(n).transpose() * jacobian_.topRows(n);
     prior_cost(state);
     gradient_ = -weighted_difference_;
-    gradient_.noalias() +=
-        jacobian_.topRows(n).transpose() * residuals_.head(n) / measurement_variance_;
+    gradient_.noalias() += jacobian_.topRows(n).transpose() * residuals_.head(n);
     factor_.compute(normal_);
   }
 
@@ -407,9 +418,9 @@ class ConstantVelocityEstimator {
     double sum = 0.0;
     for (Index i = size_ - window; i < size_; ++i) {
       const double e = residual_at(i, state, time);
-      sum += e * e;
+      sum += weights_(slot(i)) * e * e;
     }
-    const double mean = sum / (static_cast<double>(window) * measurement_variance_);
+    const double mean = sum / static_cast<double>(window);
     return mean > options_.change_gate * options_.change_gate;
   }
 
@@ -475,6 +486,7 @@ class ConstantVelocityEstimator {
   Matrix<N, Dynamic> half_gradients_;
   Matrix<N, Dynamic> hessians_;  // d × d blocks side by side
   VectorX qualities_;
+  VectorX weights_;  // 1/(σz² + τ_k²)
   Index head_ = 0;
   Index size_ = 0;
   // The estimates of the last change_lag + 1 fits.

@@ -9,6 +9,9 @@
 /// grow-only workspace, so evaluations do not allocate. It counts the Q-evaluations made
 /// through it per thread (the plant's own evaluation, `plant_quality`, is not counted), which is
 /// how an episode reports its Q-evaluations per assembly whatever the controller.
+/// The plant can be another twin (Assumption 1 broken, as in every real cell: the contact FEM
+/// behind a linear twin, a nonlinearity the twin lacks): the controllers see the twin, the cell
+/// measures the plant, each at the same controls (the uncontrolled locators at the twin's u0).
 /// Thread-safe for concurrent const use.
 
 #include <cstdint>
@@ -31,10 +34,12 @@ class CaseTwin {
  public:
   using Assembly = AssemblyId;
 
-  /// Restricts `twin` to `locators` (indices into the full twin, in that order).
-  /// @throws InvalidArgumentError when `locators` is empty, repeats or is out of range, or the
-  ///         twin lists no assemblies.
-  CaseTwin(AnyTwin twin, std::vector<Index> locators);
+  /// Restricts `twin` to `locators` (indices into the full twin, in that order); the plant is
+  /// `plant` when given, otherwise the twin itself.
+  /// @throws InvalidArgumentError when `locators` is empty, repeats or is out of range, the
+  ///         twin lists no assemblies, or the plant has other locators or assemblies than the
+  ///         twin.
+  CaseTwin(AnyTwin twin, std::vector<Index> locators, std::optional<AnyTwin> plant = std::nullopt);
 
   [[nodiscard]] Index control_dimension() const noexcept { return std::ssize(locators_); }
   [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept { return names_; }
@@ -65,6 +70,14 @@ class CaseTwin {
   /// Q_S(x, v) for the plant (the "real" cell); not counted.
   [[nodiscard]] double plant_quality(const AssemblyId& assembly,
                                      const Eigen::Ref<const VectorX>& control) const;
+  /// Whether the plant is another twin than the controllers'.
+  [[nodiscard]] bool separate_plant() const noexcept { return plant_.has_value(); }
+  /// The best quality the plant can give x: z*(x) of the plant (its own optimum over every
+  /// locator), which is the twin's z*(x) when the plant is the twin. With a separate plant and a
+  /// subset of locators it is a lower bound of what the controlled locators can reach.
+  [[nodiscard]] double plant_optimal_quality(const AssemblyId& assembly) const {
+    return plant_ ? plant_optimal_qualities_(position(assembly)) : optimal_quality(assembly);
+  }
 
   /// u0_S(x).
   [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
@@ -80,6 +93,9 @@ class CaseTwin {
 
  private:
   [[nodiscard]] Index position(const AssemblyId& assembly) const;
+  // Q of `model` (the twin or the plant) at the full control of `control`.
+  [[nodiscard]] double evaluate(const AnyTwin& model, const AssemblyId& assembly,
+                                const Eigen::Ref<const VectorX>& control) const;
   // The full control u0(x) with the controlled entries replaced, into `out` (D × k).
   void embed(Index position, const Eigen::Ref<const MatrixX>& controls,
              Eigen::Ref<MatrixX> out) const;
@@ -87,6 +103,8 @@ class CaseTwin {
   void store_optimum(Index j, const VectorX& full, double z_star);
 
   AnyTwin twin_;
+  std::optional<AnyTwin> plant_;
+  VectorX plant_optimal_qualities_;  // the plant's z*(x), with a separate plant
   std::vector<Index> locators_;
   std::vector<std::string> names_;
   VectorX lower_bounds_;
@@ -100,5 +118,11 @@ class CaseTwin {
 };
 
 static_assert(TwinWithOptimum<CaseTwin>);
+
+/// How far the case's Q_S² is from a quadratic (models/quadratic_departure.hpp): the median over
+/// its first `assemblies` assemblies of the departure over u0_S(x) ± ¼ box width, each sampled
+/// from RandomStream(k) for the k-th assembly. 0 for the linear FEM and RMS-quadratic twins.
+/// Costs `assemblies` · 10 (d + 1)(d + 2)/2 twin evaluations (not counted as a controller's).
+[[nodiscard]] double median_quadratic_departure(const CaseTwin& twin, Index assemblies = 10);
 
 }  // namespace twincal

@@ -3,7 +3,8 @@
 /// `EpisodeResult`: what one episode (one controller, one run) produced — per assembly the
 /// trace (z_t, z*_t, u_t, δû_t, δu*_t, tr P_t, Q-evaluations, wall time) and the paper's
 /// metrics (Sec. 3): the mean relative residual (1/T) Σ (z_t − z*_t)/z*_t, the mean estimation
-/// error (1/T) Σ ‖δû_t − δu*_t‖ and the divergence ‖δû_t − δu*_t‖ > 10 with its step.
+/// error (1/T) Σ ‖δû_t − δu*_t‖ and the divergence ‖δû_t − δu*_t‖ > 10 with its step — and,
+/// beyond the paper, whether the controller ended up lost (assess_lost).
 /// The trace's storage is sized once, before the episode, so recording does not allocate.
 
 #include <cstdint>
@@ -46,7 +47,27 @@ struct EpisodeResult {
   /// An error also counts as a divergence at its step.
   std::string failure;
 
+  // --- the lost rule (assess_lost) over the second half of the `steps` assemblies ------------
+  double estimate_error_second_half = 0.0;  ///< mean ‖δû_t − δu*_t‖ there, NaN if no steps
+  double offset_norm_second_half = 0.0;     ///< mean ‖δu*_t‖ there: the baseline's error
+  bool lost = false;  ///< estimate_error_second_half > offset_norm_second_half
+
   [[nodiscard]] bool diverged() const noexcept { return diverged_at >= 0; }
 };
+
+/// The lost rule: an episode is lost when, over the second half of its `steps` assemblies
+/// (t = ⌊steps/2⌋, …, steps − 1), its mean estimation error ‖δû_t − δu*_t‖ exceeds, strictly,
+/// the mean ‖δu*_t‖ — the error of the baseline, which applies no correction (δû = 0). Such a
+/// controller would do better by ignoring its own estimate, yet it need never cross the
+/// divergence threshold: a filter that stalls while the offset drifts on, or that wanders at a
+/// few times ‖δu*‖, is lost without diverging, and the paper's divergence count misses it.
+/// Only the second half counts, so that a random δû0 still converging in the first assemblies
+/// is not mistaken for a lost one. The rule is strict so that the baseline (and any controller
+/// with δû = 0) is never lost: its error is ‖0 − δu*_t‖ = ‖δu*_t‖, summed here in the same
+/// order, so the two means are equal to the bit. δû_t is the recorded estimate (after the
+/// update with z_t, as in the paper's estimation error), both over the controlled locators.
+/// Sets estimate_error_second_half, offset_norm_second_half and lost from `result`'s trace;
+/// an episode without any step has NaN means and is not lost (it has diverged at step 0).
+void assess_lost(EpisodeResult& result);
 
 }  // namespace twincal

@@ -39,6 +39,20 @@ struct ExperimentConfig {
   std::optional<ExternalTwinSettings> external_twin{};
   /// Number of locators of the analytic twin (ignored by body and door).
   Index analytic_dimension = 3;
+  /// The analytic twin's nonlinearity: none is the RMS-quadratic twin (Q² a quadratic in u);
+  /// contact, stiffening and kink are key-point twins whose Q² is not (docs/models.md).
+  Nonlinearity nonlinearity = Nonlinearity::none;
+  /// Its strength s (contact: in [0, 1]; stiffening, kink: >= 0); 1 departs Q² from a quadratic
+  /// by 10–30 % (docs/models.md). Ignored with none.
+  double strength = 1.0;
+  /// The plant, when it is not the twin (Assumption 1 broken): another case (e.g. the contact
+  /// FEM behind the linear twin: case body, plant_case body-contact) or, for the analytic case,
+  /// the same key-point twin with a nonlinearity the controllers' twin lacks. Unset: the plant
+  /// is the twin.
+  std::optional<TwinCase> plant_case{};
+  std::optional<Nonlinearity> plant_nonlinearity{};
+  /// Strength of plant_nonlinearity (unset: `strength`).
+  std::optional<double> plant_strength{};
   /// Controlled (and drifting) locators: "A", "B", "C" (the twin's significant locators),
   /// "ABC", "all", or a comma-separated list of locator names or 0-based indices.
   std::string locators = "A";

@@ -24,8 +24,8 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/external_twin_settings.hpp"
 #include "twincal/experiments/scanned_assembly.hpp"
+#include "twincal/external/external_twin_pool.hpp"
 #include "twincal/models/assembly_id.hpp"
-#include "twincal/models/external_twin_pool.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {

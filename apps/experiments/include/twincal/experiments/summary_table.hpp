@@ -2,9 +2,12 @@
 /// @file
 /// The study's summary table: per group and controller, over the stored runs, the median of the
 /// episodes' mean relative residual and mean estimation error (over the runs that did not
-/// diverge, as the paper's box plots), the number of divergences, and the mean wall time and
-/// Q-evaluations per assembly (over all runs).
+/// diverge, as the paper's box plots), the number of divergences, the number of lost runs
+/// (assess_lost, episode_result.hpp: worse than the baseline over the second half; a run may be
+/// both diverged and lost), and the mean wall time and Q-evaluations per assembly (over all
+/// runs).
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +22,9 @@ struct SummaryRow {
   std::string controller;
   Index runs = 0;
   Index divergences = 0;
+  /// Runs recorded as lost; empty when a run's record predates the rule (no "lost" field), as
+  /// a count over the others would pass for a count over all.
+  std::optional<Index> lost = 0;
   double median_relative_residual = 0.0;  ///< NaN when every run diverged
   double median_estimation_error = 0.0;   ///< NaN when every run diverged
   double seconds_per_assembly = 0.0;
@@ -32,5 +38,10 @@ struct SummaryRow {
 
 /// An aligned plain-text table (one header line, one line per row).
 [[nodiscard]] std::string format_summary(const std::vector<SummaryRow>& rows);
+
+/// One line per group whose twin's quadratic departure is recorded (ResultStore::add_group):
+/// how far its Q² is from a quadratic, the shape the active controller's local model assumes.
+/// Empty when no group has one.
+[[nodiscard]] std::string format_departures(const nlohmann::json& groups);
 
 }  // namespace twincal

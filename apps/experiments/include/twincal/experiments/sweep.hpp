@@ -37,6 +37,18 @@ namespace twincal {
                                                          std::span<const Index> dimensions,
                                                          const ExperimentConfig& base = {});
 
+/// The nonlinearity study: accuracy against the strength of the analytic twin's nonlinearity
+/// (`base.nonlinearity`, not none), one group per d in `dimensions` and strength s in
+/// `strengths`, every locator controlled, named "analytic/all/<nonlinearity>/d=<d>/s=<s>" and
+/// tagged {"study": "nonlinearity", "nonlinearity", "dimension", "strength"}; each group's results
+/// record how far its Q² departs from a quadratic. `base`'s case, locators, dimension and
+/// strength are replaced (its name must be empty).
+/// @throws InvalidArgumentError for a named base, nonlinearity none, empty lists, a d < 1 or a
+///         strength the nonlinearity refuses.
+[[nodiscard]] std::vector<ExperimentGroup> nonlinearity_study(std::span<const Index> dimensions,
+                                                              std::span<const double> strengths,
+                                                              const ExperimentConfig& base);
+
 /// The groups of a sweep document (see the file comment). Axes are expanded in the order of the
 /// document's keys (alphabetical), the last one fastest.
 /// @throws InvalidArgumentError naming a missing "base", an empty axis, or a bad value.

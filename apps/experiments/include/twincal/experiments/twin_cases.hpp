@@ -6,6 +6,7 @@
 /// restricts it to the configured locator set. This file is the one place where case names meet
 /// twin types.
 
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -18,12 +19,13 @@
 
 namespace twincal {
 
-/// Whether the body and door cases are available (the FEM twin is part of this build).
-[[nodiscard]] bool sheet_metal_cases_available() noexcept;
-
 /// The full twin of `config.twin_case` with `config.twin_seed` (and `analytic_dimension`).
-/// @throws InvalidArgumentError for body/door when the FEM twin is not available.
 [[nodiscard]] AnyTwin make_twin(const ExperimentConfig& config);
+
+/// The plant of `config` when it is not the twin (plant_case, or plant_nonlinearity with its
+/// strength): the twin of that setting; std::nullopt when the plant is the twin.
+/// @throws InvalidArgumentError for an invalid config.
+[[nodiscard]] std::optional<AnyTwin> make_plant(const ExperimentConfig& config);
 
 /// Locator indices of a locator-set spelling (see ExperimentConfig::locators): "A", "B", "C",
 /// "ABC" (the twin's significant locators), "all", or names / 0-based indices joined by commas.

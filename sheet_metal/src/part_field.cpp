@@ -1,0 +1,84 @@
+#include "twincal/sheet_metal/part_field.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "twincal/core/options.hpp"
+
+namespace twincal {
+
+std::optional<std::string> PartFieldOptions::validate() const {
+  if (!(standard_deviation >= 0.0) || !std::isfinite(standard_deviation)) {
+    return fmt::format("standard_deviation: is {}; rule: must be finite and >= 0",
+                       standard_deviation);
+  }
+  if (!(correlation_length > 0.0) || !std::isfinite(correlation_length)) {
+    return fmt::format("correlation_length: is {}; rule: must be finite and > 0",
+                       correlation_length);
+  }
+  if (features < 1) return fmt::format("features: is {}; rule: must be >= 1", features);
+  if (!(bow >= 0.0) || !std::isfinite(bow)) {
+    return fmt::format("bow: is {}; rule: must be finite and >= 0", bow);
+  }
+  if (!(twist >= 0.0) || !std::isfinite(twist)) {
+    return fmt::format("twist: is {}; rule: must be finite and >= 0", twist);
+  }
+  return std::nullopt;
+}
+
+PartField::PartField(const PartFieldOptions& options) : options_(options) {
+  require_valid("options", options);
+}
+
+VectorX PartField::sample(const PlateMesh& mesh, RandomStream& stream) const {
+  const Index n = options_.features;
+  MatrixX frequencies(2, n);
+  VectorX phases(n);
+  for (Index k = 0; k < n; ++k) {
+    frequencies(0, k) = stream.normal() / options_.correlation_length;
+    frequencies(1, k) = stream.normal() / options_.correlation_length;
+    phases(k) = 2.0 * std::numbers::pi * stream.uniform();
+  }
+  const double bow_x = options_.bow * stream.normal();
+  const double bow_y = options_.bow * stream.normal();
+  const double twist = options_.twist * stream.normal();
+
+  const double amplitude = options_.standard_deviation * std::sqrt(2.0 / static_cast<double>(n));
+  // Bow and twist in coordinates scaled to [−1, 1] over the part.
+  const double xc = mesh.origin_x() + 0.5 * mesh.width();
+  const double yc = mesh.origin_y() + 0.5 * mesh.height();
+  const double sx = 2.0 / mesh.width();
+  const double sy = 2.0 / mesh.height();
+
+  VectorX deviations(mesh.dof_count());
+  for (Index node = 0; node < mesh.node_count(); ++node) {
+    const double x = mesh.x(node);
+    const double y = mesh.y(node);
+    double w = 0.0;
+    double wx = 0.0;
+    double wy = 0.0;
+    for (Index k = 0; k < n; ++k) {
+      const double arg = frequencies(0, k) * x + frequencies(1, k) * y + phases(k);
+      const double s = std::sin(arg);
+      w += std::cos(arg);
+      wx -= frequencies(0, k) * s;
+      wy -= frequencies(1, k) * s;
+    }
+    w *= amplitude;
+    wx *= amplitude;
+    wy *= amplitude;
+    const double px = sx * (x - xc);
+    const double py = sy * (y - yc);
+    w += bow_x * px * px + bow_y * py * py + twist * px * py;
+    wx += 2.0 * bow_x * px * sx + twist * sx * py;
+    wy += 2.0 * bow_y * py * sy + twist * px * sy;
+    deviations(PlateMesh::dof(node, 0)) = w;
+    deviations(PlateMesh::dof(node, 1)) = wy;   // θx = ∂w/∂y
+    deviations(PlateMesh::dof(node, 2)) = -wx;  // θy = −∂w/∂x
+  }
+  return deviations;
+}
+
+}  // namespace twincal

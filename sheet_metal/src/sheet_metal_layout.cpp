@@ -1,0 +1,227 @@
+#include "twincal/sheet_metal/sheet_metal_layout.hpp"
+
+#include <cmath>
+#include <set>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "twincal/core/error.hpp"
+
+namespace twincal {
+
+namespace {
+
+constexpr SheetMetalPart upper_part = SheetMetalPart::upper;
+constexpr SheetMetalPart lower_part = SheetMetalPart::lower;
+
+// Whether `value` is a whole multiple of `step` (within 1e-9 relative).
+bool whole_multiple(double value, double step) {
+  const double ratio = value / step;
+  return std::abs(ratio - std::round(ratio)) < 1e-9 * std::max(1.0, std::abs(ratio));
+}
+
+bool inside(const PartOutline& o, double x, double y) {
+  constexpr double tolerance = 1e-6;
+  return x >= o.x0 - tolerance && x <= o.x0 + o.width + tolerance && y >= o.y0 - tolerance &&
+         y <= o.y0 + o.height + tolerance;
+}
+
+const char* part_name(SheetMetalPart part) {
+  return part == SheetMetalPart::upper ? "upper" : "lower";
+}
+
+// Spot welds every `pitch` mm along x, alternating between the rows y_a and y_b (a staggered
+// double row, so the joint is not a hinge even with translation-only welds).
+std::vector<Vector<2>> staggered_welds(double x_first, double x_last, double pitch, double y_a,
+                                       double y_b) {
+  std::vector<Vector<2>> welds;
+  const auto count = static_cast<int>(std::floor((x_last - x_first) / pitch + 1e-9)) + 1;
+  for (int k = 0; k < count; ++k) {
+    welds.emplace_back(x_first + k * pitch, k % 2 == 0 ? y_a : y_b);
+  }
+  return welds;
+}
+
+void add_grid(std::vector<LayoutPoint>& points, const std::string& prefix, SheetMetalPart part,
+              const std::vector<double>& xs, const std::vector<double>& ys) {
+  for (const double y : ys) {
+    for (const double x : xs) {
+      points.push_back({fmt::format("{}{}", prefix, points.size() + 1), part, x, y});
+    }
+  }
+}
+
+}  // namespace
+
+SheetMetalLayout SheetMetalLayout::body() {
+  SheetMetalLayout layout;
+  layout.name = "body";
+  layout.element_size = 20.0;
+  layout.lower = {0.0, 0.0, 800.0, 400.0};
+  layout.upper = {0.0, 340.0, 800.0, 400.0};  // 60 mm lap flange, y ∈ [340, 400]
+  layout.welds = staggered_welds(40.0, 760.0, 40.0, 360.0, 380.0);
+  int u = 0;
+  for (const double y : {440.0, 680.0}) {
+    for (const double x : {100.0, 400.0, 700.0}) {
+      layout.locators.push_back({fmt::format("U{}", ++u), upper_part, x, y});
+    }
+  }
+  int l = 0;
+  for (const double y : {60.0, 300.0}) {
+    for (const double x : {100.0, 400.0, 700.0}) {
+      layout.locators.push_back({fmt::format("L{}", ++l), lower_part, x, y});
+    }
+  }
+  // 3 × 3 key points per part: edges, middle and the flange, m = 18.
+  add_grid(layout.key_points, "K", upper_part, {20.0, 400.0, 780.0}, {400.0, 560.0, 740.0});
+  add_grid(layout.key_points, "K", lower_part, {20.0, 400.0, 780.0}, {0.0, 180.0, 340.0});
+  layout.final_support = FinalSupport::adjusted_locators;
+  layout.weld_tie = WeldTie::translation;
+  return layout;
+}
+
+SheetMetalLayout SheetMetalLayout::door() {
+  SheetMetalLayout layout;
+  layout.name = "door";
+  layout.element_size = 20.0;
+  layout.lower = {0.0, 0.0, 900.0, 500.0};
+  layout.upper = {0.0, 440.0, 900.0, 500.0};  // 60 mm lap flange, y ∈ [440, 500]
+  layout.welds = staggered_welds(40.0, 860.0, 40.0, 460.0, 480.0);
+  int u = 0;
+  for (const double y : {620.0, 860.0}) {
+    for (const double x : {100.0, 280.0, 460.0, 640.0, 800.0}) {
+      layout.locators.push_back({fmt::format("U{}", ++u), upper_part, x, y});
+    }
+  }
+  int l = 0;
+  for (const double y : {60.0, 200.0, 340.0}) {
+    for (const double x : {100.0, 460.0, 800.0}) {
+      layout.locators.push_back({fmt::format("L{}", ++l), lower_part, x, y});
+    }
+  }
+  add_grid(layout.key_points, "K", upper_part, {20.0, 240.0, 460.0, 680.0, 880.0},
+           {520.0, 700.0, 920.0});
+  add_grid(layout.key_points, "K", lower_part, {20.0, 240.0, 460.0, 680.0, 880.0},
+           {20.0, 240.0, 420.0});
+  // A nominal N-2-1 frame with three pins under each part (at nominal locator positions).
+  layout.supports = {{"S1", lower_part, 100.0, 60.0},  {"S2", lower_part, 800.0, 60.0},
+                     {"S3", lower_part, 460.0, 340.0}, {"S4", upper_part, 100.0, 860.0},
+                     {"S5", upper_part, 800.0, 860.0}, {"S6", upper_part, 460.0, 620.0}};
+  layout.final_support = FinalSupport::nominal_frame;
+  layout.weld_tie = WeldTie::translation_and_rotation;
+  return layout;
+}
+
+PlateMesh SheetMetalLayout::mesh(SheetMetalPart part) const {
+  const PartOutline& o = part == SheetMetalPart::upper ? upper : lower;
+  if (!whole_multiple(o.width, element_size) || !whole_multiple(o.height, element_size)) {
+    throw InvalidArgumentError(
+        "layout", fmt::format("layout: {} part is {} x {} mm; rule: must be whole multiples of "
+                              "element_size {} mm",
+                              part_name(part), o.width, o.height, element_size));
+  }
+  const auto nx = static_cast<Index>(std::round(o.width / element_size));
+  const auto ny = static_cast<Index>(std::round(o.height / element_size));
+  return {nx, ny, element_size, element_size, o.x0, o.y0};
+}
+
+std::optional<std::string> SheetMetalLayout::validate() const {
+  if (!(element_size > 0.0) || !std::isfinite(element_size)) {
+    return fmt::format("element_size: is {}; rule: must be finite and > 0", element_size);
+  }
+  for (const SheetMetalPart part : {upper_part, lower_part}) {
+    const PartOutline& o = part == upper_part ? upper : lower;
+    if (!(o.width > 0.0) || !(o.height > 0.0) || !whole_multiple(o.width, element_size) ||
+        !whole_multiple(o.height, element_size)) {
+      return fmt::format(
+          "{}: is {} x {} mm; rule: must be > 0 and whole multiples of "
+          "element_size {} mm",
+          part_name(part), o.width, o.height, element_size);
+    }
+  }
+  if (!whole_multiple(upper.x0 - lower.x0, element_size) ||
+      !whole_multiple(upper.y0 - lower.y0, element_size)) {
+    return fmt::format(
+        "upper: origin offset ({}, {}) mm from lower; rule: must be whole "
+        "multiples of element_size (one shared grid, so welds are nodes of both)",
+        upper.x0 - lower.x0, upper.y0 - lower.y0);
+  }
+  std::set<std::string> names;
+  int upper_count = 0;
+  for (const LayoutPoint& p : locators) {
+    if (!names.insert(p.name).second) {
+      return fmt::format("locators: name '{}' repeats; rule: names must be unique", p.name);
+    }
+    upper_count += p.part == upper_part ? 1 : 0;
+  }
+  const auto lower_count = static_cast<int>(locators.size()) - upper_count;
+  if (upper_count < 3 || lower_count < 3) {
+    return fmt::format("locators: {} upper and {} lower; rule: each part needs >= 3", upper_count,
+                       lower_count);
+  }
+  if (welds.empty()) return "welds: is empty; rule: needs at least one weld";
+  for (std::size_t j = 0; j < welds.size(); ++j) {
+    if (!inside(upper, welds[j](0), welds[j](1)) || !inside(lower, welds[j](0), welds[j](1))) {
+      return fmt::format(
+          "welds: weld {} at ({}, {}) mm; rule: must lie in the overlap of both "
+          "parts",
+          j, welds[j](0), welds[j](1));
+    }
+  }
+  for (const LayoutPoint& p : locators) {
+    for (const Vector<2>& w : welds) {
+      if (std::abs(p.x - w(0)) < 1e-6 && std::abs(p.y - w(1)) < 1e-6) {
+        return fmt::format(
+            "locators: {} sits on the weld at ({}, {}) mm; rule: a locator and a "
+            "weld cannot share a node (the gun and the clamp would fight)",
+            p.name, w(0), w(1));
+      }
+    }
+  }
+  if (key_points.empty()) return "key_points: is empty; rule: needs at least one key point";
+  for (const auto* list : {&locators, &key_points, &supports}) {
+    for (const LayoutPoint& p : *list) {
+      if (!inside(p.part == upper_part ? upper : lower, p.x, p.y)) {
+        return fmt::format("point {} at ({}, {}) mm; rule: must lie on its ({}) part", p.name, p.x,
+                           p.y, part_name(p.part));
+      }
+    }
+  }
+  if (final_support == FinalSupport::nominal_frame && supports.size() < 3) {
+    return fmt::format("supports: has {}; rule: a nominal frame needs >= 3", supports.size());
+  }
+  return std::nullopt;
+}
+
+std::string SheetMetalLayout::to_json() const {
+  using nlohmann::json;
+  const auto outline = [](const PartOutline& o) {
+    return json{{"x0", o.x0}, {"y0", o.y0}, {"width", o.width}, {"height", o.height}};
+  };
+  const auto points = [](const std::vector<LayoutPoint>& list) {
+    json array = json::array();
+    for (const LayoutPoint& p : list) {
+      array.push_back({{"name", p.name}, {"part", part_name(p.part)}, {"x", p.x}, {"y", p.y}});
+    }
+    return array;
+  };
+  json weld_array = json::array();
+  for (const Vector<2>& w : welds) weld_array.push_back({{"x", w(0)}, {"y", w(1)}});
+  const json document{
+      {"name", name},
+      {"element_size", element_size},
+      {"upper", outline(upper)},
+      {"lower", outline(lower)},
+      {"locators", points(locators)},
+      {"welds", weld_array},
+      {"key_points", points(key_points)},
+      {"supports", points(supports)},
+      {"final_support",
+       final_support == FinalSupport::adjusted_locators ? "adjusted_locators" : "nominal_frame"},
+      {"weld_tie", weld_tie == WeldTie::translation ? "translation" : "translation_and_rotation"}};
+  return document.dump(2);
+}
+
+}  // namespace twincal

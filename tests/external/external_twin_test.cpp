@@ -1,0 +1,267 @@
+#include "twincal/external/external_twin.hpp"
+
+#include <signal.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "twincal/core/stopwatch.hpp"
+#include "twincal/models/evaluator.hpp"
+
+namespace twincal {
+namespace {
+
+using ::testing::HasSubstr;
+using json = nlohmann::json;
+
+// tests/data/script_twin.py: Q = sqrt(q0 + Σ (u_i − a_i)²), misbehaving on request.
+ExternalTwinOptions script_options() {
+  ExternalTwinOptions options;
+  options.command = {TWINCAL_TEST_DATA_DIR "/script_twin.py"};
+  options.locator_names = {"A", "B"};
+  // Generous: these bound only failures, and the machine may be loaded or sanitized.
+  options.timeout = std::chrono::milliseconds{5000};
+  options.startup_grace = std::chrono::milliseconds{10000};
+  return options;
+}
+
+const json kAssembly = {{"q0", 0.25}, {"a", {0.1, -0.2}}};
+
+json misbehaving(const std::string& mode) {
+  return {{"q0", 0.25}, {"a", {0.1, -0.2}}, {"mode", mode}};
+}
+
+double expected(const VectorX& u) {
+  return std::sqrt(0.25 + std::pow(u(0) - 0.1, 2) + std::pow(u(1) + 0.2, 2));
+}
+
+ExternalTwinFailure failure_of(const ExternalTwin& twin, const json& assembly, Index k = 2) {
+  VectorX out(k);
+  try {
+    twin.quality_batch(assembly, MatrixX::Zero(2, k), out);
+  } catch (const ExternalTwinError& error) {
+    return error.failure();
+  }
+  ADD_FAILURE() << "expected an ExternalTwinError";
+  return ExternalTwinFailure::start_failed;
+}
+
+pid_t pid_of(const ExternalTwin& twin) {
+  return static_cast<pid_t>(twin.quality(misbehaving("pid"), VectorX::Zero(2)));
+}
+
+TEST(ExternalTwin, EvaluatesABatchOverTheLineProtocol) {
+  const ExternalTwin twin(script_options());
+  static_assert(Twin<ExternalTwin>);
+  EXPECT_EQ(twin.control_dimension(), 2);
+  EXPECT_THAT(twin.locator_names(), ::testing::ElementsAre("A", "B"));
+  EXPECT_TRUE(std::isinf(twin.lower_bounds()(0)));
+  MatrixX controls(2, 4);
+  controls << 0.1, 0.3, -1.0 / 3.0, 1e-17, -0.2, 0.0, 2.0 / 7.0, -5.5;
+  VectorX out(4);
+  twin.quality_batch(kAssembly, controls, out);
+  for (Index j = 0; j < 4; ++j) {
+    // JSON numbers round-trip doubles exactly both ways, so only Python's arithmetic differs.
+    EXPECT_NEAR(out(j), expected(controls.col(j)), 1e-15 * expected(controls.col(j)))
+        << "column " << j;
+  }
+  EXPECT_EQ(out(0), 0.5);
+  EXPECT_EQ(twin.quality(kAssembly, Eigen::Vector2d(0.1, -0.2)), 0.5);
+}
+
+TEST(ExternalTwin, KeepsOneLongLivedChild) {
+  const ExternalTwin twin(script_options());
+  const pid_t first = pid_of(twin);
+  EXPECT_EQ(twin.process_id(), first);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(pid_of(twin), first);
+  EXPECT_EQ(twin.starts(), 1);
+}
+
+TEST(ExternalTwin, RestartsAChildThatCrashed) {
+  const ExternalTwin twin(script_options());
+  const pid_t first = pid_of(twin);
+  VectorX out(2);
+  try {
+    twin.quality_batch(misbehaving("crash"), MatrixX::Zero(2, 2), out);
+    FAIL() << "expected ExternalTwinError";
+  } catch (const ExternalTwinError& error) {
+    EXPECT_EQ(error.failure(), ExternalTwinFailure::crashed);
+    EXPECT_EQ(error.controls(), MatrixX::Zero(2, 2));
+    EXPECT_THAT(error.assembly(), HasSubstr("\"mode\":\"crash\""));
+    EXPECT_THAT(error.what(),
+                HasSubstr("twin: external twin crashed: end of output before a complete reply; "
+                          "the child exited with status 3 (request: assembly {"));
+  }
+  EXPECT_FALSE(twin.process_id().has_value());
+  const pid_t second = pid_of(twin);
+  EXPECT_NE(second, first);
+  EXPECT_EQ(twin.starts(), 2);
+  EXPECT_EQ(twin.quality(kAssembly, Eigen::Vector2d(0.1, -0.2)), 0.5);
+}
+
+TEST(ExternalTwin, KillsAndRestartsAChildThatSendsGarbage) {
+  const ExternalTwin twin(script_options());
+  const pid_t first = pid_of(twin);
+  VectorX out(2);
+  try {
+    twin.quality_batch(misbehaving("garbage"), MatrixX::Zero(2, 2), out);
+    FAIL() << "expected ExternalTwinError";
+  } catch (const ExternalTwinError& error) {
+    EXPECT_EQ(error.failure(), ExternalTwinFailure::malformed_reply);
+    EXPECT_THAT(error.what(),
+                HasSubstr("twin: external twin malformed reply: the reply is not JSON: \"this is "
+                          "not json\"; the child was killed by signal 9 and will be restarted"));
+  }
+  EXPECT_NE(pid_of(twin), first);
+}
+
+TEST(ExternalTwin, KillsAndRestartsAChildThatTimesOut) {
+  ExternalTwinOptions options = script_options();
+  options.timeout = std::chrono::milliseconds{200};
+  const ExternalTwin twin(options);
+  const pid_t first = pid_of(twin);  // started and answered: no startup grace from here on
+  const Stopwatch stopwatch;
+  VectorX out(2);
+  try {
+    twin.quality_batch(misbehaving("hang"), MatrixX::Zero(2, 2), out);
+    FAIL() << "expected ExternalTwinError";
+  } catch (const ExternalTwinError& error) {
+    EXPECT_EQ(error.failure(), ExternalTwinFailure::timeout);
+    EXPECT_THAT(error.what(), HasSubstr("twin: external twin timed out: no reply within 200 ms; "
+                                        "the child was killed by signal 9"));
+  }
+  EXPECT_GE(stopwatch.seconds(), 0.2);
+  EXPECT_LT(stopwatch.seconds(), 5.0);  // the hanging child sleeps for 60 s
+  EXPECT_EQ(::kill(first, 0), -1);      // killed and reaped
+  EXPECT_EQ(errno, ESRCH);
+  // The restarted child gets the startup grace for its first reply.
+  EXPECT_EQ(twin.quality(kAssembly, Eigen::Vector2d(0.1, -0.2)), 0.5);
+  EXPECT_EQ(twin.starts(), 2);
+}
+
+TEST(ExternalTwin, RejectsRepliesOutOfStep) {
+  const ExternalTwin twin(script_options());
+  // A reply that names another request.
+  const pid_t first = pid_of(twin);
+  VectorX out(2);
+  EXPECT_THAT([&] { twin.quality_batch(misbehaving("wrong_id"), MatrixX::Zero(2, 2), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(
+                  HasSubstr("twin: external twin malformed reply: the reply is for request 3, "
+                            "not 2: \"{")));
+  // An extra, unrequested line after a correct reply is caught before the next request.
+  const pid_t second = pid_of(twin);
+  EXPECT_NE(second, first);
+  twin.quality_batch(misbehaving("chatty"), MatrixX::Zero(2, 2), out);
+  EXPECT_NEAR(out(0), expected(VectorX::Zero(2)), 1e-15);  // the reply itself is right
+  EXPECT_THAT([&] { twin.quality_batch(kAssembly, MatrixX::Zero(2, 2), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(
+                  HasSubstr("twin: external twin malformed reply: unrequested output \"{")));
+  EXPECT_NE(pid_of(twin), second);
+}
+
+TEST(ExternalTwin, ReportsAWrongCountAndKeepsTheChild) {
+  const ExternalTwin twin(script_options());
+  const pid_t first = pid_of(twin);
+  VectorX out(2);
+  EXPECT_THAT([&] { twin.quality_batch(misbehaving("wrong_count"), MatrixX::Zero(2, 2), out); },
+              ::testing::Throws<ExternalTwinError>(::testing::Property(
+                  &ExternalTwinError::what,
+                  HasSubstr("twin: external twin wrong number of qualities: the reply has 3 "
+                            "qualities; rule: must have 2, one per control"))));
+  EXPECT_EQ(pid_of(twin), first);
+}
+
+TEST(ExternalTwin, ReportsAnErrorReplyAndKeepsTheChild) {
+  const ExternalTwin twin(script_options());
+  const pid_t first = pid_of(twin);
+  EXPECT_EQ(failure_of(twin, misbehaving("error")), ExternalTwinFailure::twin_error);
+  VectorX out(1);
+  EXPECT_THAT([&] { twin.quality_batch(misbehaving("error"), MatrixX::Zero(2, 1), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr(
+                  "twin: external twin reported an error: assembly rejected on purpose")));
+  EXPECT_EQ(pid_of(twin), first);
+}
+
+TEST(ExternalTwin, NullQualitiesBecomeNonFiniteErrorsInTheEvaluator) {
+  const ExternalTwin twin(script_options());
+  VectorX out(3);
+  twin.quality_batch(misbehaving("null"), MatrixX::Zero(2, 3), out);
+  EXPECT_TRUE(out.array().isNaN().all());
+  const Evaluator<ExternalTwin> evaluator(twin);
+  try {
+    evaluator.quality_batch(misbehaving("null"), MatrixX::Zero(2, 3), out);
+    FAIL() << "expected TwinEvaluationError";
+  } catch (const TwinEvaluationError<json>& error) {
+    EXPECT_EQ(error.failure(), EvaluationFailure::non_finite);
+    EXPECT_EQ(error.column(), 0);
+    EXPECT_EQ(error.assembly(), misbehaving("null"));
+  }
+}
+
+TEST(ExternalTwin, EvaluatorWrapsAChildFailureWithItsCause) {
+  const ExternalTwin twin(script_options());
+  const Evaluator<ExternalTwin> evaluator(twin, {}, {.memoize = true});
+  VectorX out(2);
+  evaluator.quality_batch(kAssembly, MatrixX::Zero(2, 2), out);
+  evaluator.quality_batch(kAssembly, MatrixX::Zero(2, 2), out);
+  EXPECT_EQ(evaluator.cache_hits(), 2U);  // JSON assemblies are hashable: memoization works
+  try {
+    evaluator.quality_batch(misbehaving("crash"), MatrixX::Ones(2, 2), out);
+    FAIL() << "expected TwinEvaluationError";
+  } catch (const TwinEvaluationError<json>& error) {
+    EXPECT_EQ(error.failure(), EvaluationFailure::twin_threw);
+    EXPECT_EQ(error.controls(), MatrixX::Ones(2, 2));
+    EXPECT_THAT(error.what(), HasSubstr("quality: the twin threw for assembly "));
+    EXPECT_THAT(error.what(), HasSubstr("twin: external twin crashed"));
+    EXPECT_THROW(std::rethrow_if_nested(error), ExternalTwinError);
+  }
+}
+
+TEST(ExternalTwin, ReportsAnExecutableThatCannotStart) {
+  ExternalTwinOptions options = script_options();
+  options.command = {TWINCAL_TEST_DATA_DIR "/no_such_twin"};
+  EXPECT_THAT([&] { const ExternalTwin twin(options); },
+              ::testing::ThrowsMessage<ExternalTwinError>(
+                  HasSubstr("twin: external twin could not start: \"" TWINCAL_TEST_DATA_DIR
+                            "/no_such_twin\": No such file or directory")));
+}
+
+TEST(ExternalTwin, ReapsItsChildOnDestruction) {
+  pid_t pid = 0;
+  {
+    const ExternalTwin twin(script_options());
+    pid = pid_of(twin);
+  }
+  EXPECT_EQ(::kill(pid, 0), -1);
+  EXPECT_EQ(errno, ESRCH);
+}
+
+TEST(ExternalTwin, RejectsBadOptionsAndShapes) {
+  ExternalTwinOptions options = script_options();
+  options.command.clear();
+  EXPECT_THAT([&] { const ExternalTwin twin(options); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "options: command is empty; rule: must name an executable"));
+  options = script_options();
+  options.lower_bounds = VectorX::Zero(3);
+  EXPECT_THAT([&] { const ExternalTwin twin(options); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "options: lower_bounds has 3 entries; rule: must be empty or have 2"));
+  options = script_options();
+  options.timeout = std::chrono::milliseconds{0};
+  EXPECT_THAT([&] { const ExternalTwin twin(options); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "options: timeout is 0 ms; rule: must be > 0"));
+  const ExternalTwin twin(script_options());
+  VectorX out(2);
+  EXPECT_THAT(
+      [&] { twin.quality_batch(kAssembly, MatrixX::Zero(3, 2), out); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("controls: rows is 3; rule: must equal 2"));
+}
+
+}  // namespace
+}  // namespace twincal
