@@ -220,9 +220,10 @@ class ActiveCalibrationController {
     // corrected (the baseline's u0 plus the probe): a twin whose quality hardly depends on the
     // offset would otherwise be corrected by a fit of its model's errors.
     step_.corrected = !quadratic_ || estimator_.significant() || restarted_;
-    // Do no harm where the model is known to err: an estimate that keeps failing to predict the
-    // plant is not applied (the control falls back to u0 + p) until it predicts again.
-    if (step_.model_variance > 0.0 && harmful()) step_.corrected = false;
+    // Do no harm: an estimate that keeps failing to predict the plant (a model that errs, or a
+    // plant that is not the twin) is not applied (the control falls back to u0 + p) until it
+    // predicts again.
+    if (quadratic_ && harmful()) step_.corrected = false;
     control_ =
         (center_ + probe_vector_).cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
     if (step_.corrected) control_ += mean_.cwiseMax(-max_offset_).cwiseMin(max_offset_);
