@@ -139,19 +139,18 @@ ContactSheetMetalTwin::Precomputed ContactSheetMetalTwin::Precomputed::compute(
   const VectorX upper_nominal = VectorX::Zero(process.dof_count(SheetMetalPart::upper));
   const VectorX lower_nominal = VectorX::Zero(process.dof_count(SheetMetalPart::lower));
   const VectorX zero_control = VectorX::Zero(d);
+  // The released gaps of the upper shape `upper` on the lower shape `lower`, at u = 0.
+  const auto gaps = [&](const VectorX& upper, const VectorX& lower) -> VectorX {
+    return relative_normal(pairs, dofs, process.released_state(upper, lower, zero_control), upper,
+                           lower);
+  };
   MatrixX upper_gap(p, linear.upper_part_count());
   for (Index i = 0; i < linear.upper_part_count(); ++i) {
-    const VectorX& part = linear.upper_part(i);
-    upper_gap.col(i) =
-        relative_normal(pairs, dofs, process.released_state(part, lower_nominal, zero_control),
-                        part, lower_nominal);
+    upper_gap.col(i) = gaps(linear.upper_part(i), lower_nominal);
   }
   MatrixX lower_gap(p, linear.lower_part_count());
   for (Index j = 0; j < linear.lower_part_count(); ++j) {
-    const VectorX& part = linear.lower_part(j);
-    lower_gap.col(j) =
-        relative_normal(pairs, dofs, process.released_state(upper_nominal, part, zero_control),
-                        upper_nominal, part);
+    lower_gap.col(j) = gaps(upper_nominal, linear.lower_part(j));
   }
   MatrixX gap_influence(p, d);
   for (Index k = 0; k < d; ++k) {
