@@ -10,8 +10,10 @@ TWINCAL_JOBS="${TWINCAL_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 TWINCAL_CXX="${TWINCAL_CXX:-clang++-14}"
 
 # ccache (when installed) keys objects by paths relative to the checkout, so a fresh clone in
-# another folder reuses them; the precompiled test headers need the sloppiness to be cached.
+# another folder reuses them (also those built with -g1, whose key would otherwise hold the build
+# folder); the precompiled test headers need the sloppiness to be cached.
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$TWINCAL_ROOT}"
+export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}"
 
 twincal_log() { printf '\033[1m[twincal]\033[0m %s\n' "$*" >&2; }
