@@ -92,8 +92,8 @@ void compare(int runs, Index d, double strength, std::uint64_t seed) {
     std::vector<double> residuals;
     int lost = 0;
     for (int r = 0; r < runs; ++r) {
-      const RandomStream run = RandomStream(seed).substream("run").substream(
-          static_cast<std::uint64_t>(r));
+      const RandomStream run =
+          RandomStream(seed).substream("run").substream(static_cast<std::uint64_t>(r));
       const Outcome outcome = run_episode(twin, run, setting);
       residuals.push_back(outcome.relative_residual);
       lost += outcome.lost ? 1 : 0;
@@ -111,8 +111,9 @@ int main(int argc, char** argv) {
   const double strength = argc > 3 ? std::atof(argv[3]) : 1.0;
   const std::uint64_t seed = argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 2023;
   if (runs < 1 || d < 1 || !(strength >= 0.0 && strength <= 1.0)) {
-    fmt::print(stderr, "usage: black_box_twin [runs >= 1] [dimension >= 1] [strength in [0, 1]] "
-                       "[seed]\n");
+    fmt::print(stderr,
+               "usage: black_box_twin [runs >= 1] [dimension >= 1] [strength in [0, 1]] "
+               "[seed]\n");
     return 2;
   }
   fmt::print("d = {}, strength {}, {} runs of 100 assemblies, seed {}: median (z - z*)/z*\n", d,

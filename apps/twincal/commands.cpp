@@ -375,10 +375,10 @@ residual, diverged and lost fractions and Q-evaluations against the strength.
   const std::optional<std::string> strength_list = arguments.text("strengths");
   if (base.nonlinearity != Nonlinearity::none) {
     const std::vector<Index> dimensions = list ? parse_dimensions(*list) : std::vector<Index>{3};
-    const std::vector<double> strengths =
-        strength_list ? parse_strengths(*strength_list)
-        : base.nonlinearity == Nonlinearity::contact ? std::vector<double>{0, 0.25, 0.5, 0.75, 1}
-                                                     : std::vector<double>{0, 0.5, 1, 1.5, 2};
+    const std::vector<double> strengths = strength_list ? parse_strengths(*strength_list)
+                                          : base.nonlinearity == Nonlinearity::contact
+                                              ? std::vector<double>{0, 0.25, 0.5, 0.75, 1}
+                                              : std::vector<double>{0, 0.5, 1, 1.5, 2};
     const fs::path out = arguments.text("out").value_or("results/nonlinearity");
     const RunOptions options = read_run_options(arguments);
     const bool dry_run = arguments.flag("dry-run");

@@ -116,8 +116,7 @@ TEST(ConstantVelocityEstimator, AnAssemblyWithAModelErrorWeighsLess) {
       estimator.fit(t + 1);
     }
     const Eigen::Vector3d u = scenario.next(12, estimator.position());
-    estimator.add(12, scenario.model, u, scenario.plant(u, offset) + quality_error,
-                  model_variance);
+    estimator.add(12, scenario.model, u, scenario.plant(u, offset) + quality_error, model_variance);
     estimator.fit(13);
     EXPECT_EQ(estimator.changes(), 0);
     return Eigen::Vector3d(estimator.position());

@@ -38,7 +38,7 @@ TEST(SearchedOptimumTwin, NoControlNearbyBeatsTheSearchedOptimumOfANonlinearTwin
   KeyPointTwin<StiffeningNonlinearity> twin(options_with(3, 1.0), RandomStream(6));
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   const SearchedOptimumTwin<KeyPointTwin<StiffeningNonlinearity>> searched(std::move(twin),
-                                                                          assemblies);
+                                                                           assemblies);
   RandomStream draws(1);
   for (const AssemblyId& x : assemblies) {
     const VectorX u0 = searched.optimum(x);

@@ -25,8 +25,8 @@ KeyPointTwinOptions options_with(Index d, double strength) {
 // One suite over every nonlinearity: what every KeyPointTwin must satisfy.
 template <typename Kind>
 class KeyPointTwinTyped : public ::testing::Test {};
-using Kinds = ::testing::Types<NoNonlinearity, ContactNonlinearity, StiffeningNonlinearity,
-                               KinkNonlinearity>;
+using Kinds =
+    ::testing::Types<NoNonlinearity, ContactNonlinearity, StiffeningNonlinearity, KinkNonlinearity>;
 TYPED_TEST_SUITE(KeyPointTwinTyped, Kinds);
 
 TYPED_TEST(KeyPointTwinTyped, QualityIsTheRmsOfTheDeviationsAndTheBatchMatches) {

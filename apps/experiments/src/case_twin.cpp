@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/random_stream.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/experiments/scanned_assembly.hpp"
-#include "twincal/core/random_stream.hpp"
 #include "twincal/models/locator_subset.hpp"
 #include "twincal/models/quadratic_departure.hpp"
 
@@ -202,8 +202,8 @@ double median_quadratic_departure(const CaseTwin& twin, Index assemblies) {
   const std::uint64_t before = evaluations;
   for (Index k = 0; k < count; ++k) {
     const AssemblyId& x = all[static_cast<std::size_t>(k)];
-    departures.push_back(quadratic_departure(twin, x, twin.optimum(x),
-                                             RandomStream(static_cast<std::uint64_t>(k))));
+    departures.push_back(
+        quadratic_departure(twin, x, twin.optimum(x), RandomStream(static_cast<std::uint64_t>(k))));
   }
   evaluations = before;  // a property of the twin, not of any controller's step
   if (departures.empty()) return 0.0;

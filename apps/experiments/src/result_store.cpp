@@ -214,9 +214,9 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
   }
   // A new group: how far its Q² is from a quadratic (an external twin's evaluations are its
   // cost, so it is not measured there).
-  twin_json["quadratic_departure"] =
-      config.twin_case == TwinCase::external ? json(nullptr)
-                                             : json(median_quadratic_departure(twin));
+  twin_json["quadratic_departure"] = config.twin_case == TwinCase::external
+                                         ? json(nullptr)
+                                         : json(median_quadratic_departure(twin));
   groups_.push_back(
       json{{"name", name}, {"config", config}, {"tags", group.tags}, {"twin", twin_json}});
 }

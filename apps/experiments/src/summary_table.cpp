@@ -114,9 +114,10 @@ std::string format_departures(const json& groups) {
     if (!group.contains("twin") || !group.at("twin").contains("quadratic_departure")) continue;
     const json& departure = group.at("twin").at("quadratic_departure");
     if (departure.is_null()) continue;
-    out += fmt::format("{}: Q² departs {:.3f} from a quadratic (RMS residual of its best quadratic "
-                       "fit over u0 ± ¼ box, / its sd; median of 10 assemblies)\n",
-                       group.at("name").get<std::string>(), departure.get<double>());
+    out += fmt::format(
+        "{}: Q² departs {:.3f} from a quadratic (RMS residual of its best quadratic "
+        "fit over u0 ± ¼ box, / its sd; median of 10 assemblies)\n",
+        group.at("name").get<std::string>(), departure.get<double>());
   }
   return out;
 }
