@@ -42,6 +42,8 @@ struct PythonAssembly {
 class PythonTwin {
  public:
   using Assembly = PythonAssembly;
+  /// A PythonAssembly borrows its object for one call (models/kept_assemblies.hpp).
+  static constexpr bool borrows_assemblies = true;
 
   /// Reads the bounds and names of `twin` (with the GIL held).
   /// @throws InvalidArgumentError naming the missing or malformed attribute.

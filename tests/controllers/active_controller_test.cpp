@@ -145,6 +145,41 @@ TEST(ActiveController, WeighsTheModelErrorOfATwinThatIsNotQuadratic) {
   EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
 }
 
+// Do no harm, measured: a plant that punishes every move away from u0 (the correction costs
+// more than it saves) gets, once the audit has compared the two arms, corrections only at the
+// audit's own assemblies (every audit_period-th); with the audit off no assembly is audited.
+TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
+  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
+  const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  for (const Index period : {Index{10}, Index{0}}) {
+    ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6),
+                                                     ActiveOptions{.audit_period = period});
+    int corrected = 0;
+    int audited = 0;
+    int corrected_unaudited = 0;
+    for (int t = 0; t < 120; ++t) {
+      const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+      const VectorX u = controller.propose(x);
+      const double z = twin.quality(x, VectorX(u - offset)) + 5.0 * (u - twin.optimum(x)).norm();
+      controller.observe(x, u, z);
+      const ActiveStepReport& step = controller.last_step();
+      audited += step.audited ? 1 : 0;
+      if (t >= 60) {
+        corrected += step.corrected ? 1 : 0;
+        corrected_unaudited += step.corrected && !step.audited ? 1 : 0;
+      }
+    }
+    if (period > 0) {
+      EXPECT_GT(audited, 10);
+      EXPECT_LE(corrected, 60 / 10 + 1);
+      EXPECT_EQ(corrected_unaudited, 0);
+    } else {
+      EXPECT_EQ(audited, 0);
+    }
+  }
+}
+
 TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(ActiveOptions{.measurement_variance = -1.0}.validate(),
             "measurement_variance is -1; it must be finite and > 0");
@@ -152,6 +187,13 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
             "max_offset_fraction is -0.1; it must lie in [0, 1]");
   EXPECT_EQ(ActiveOptions{.surrogate = {.tolerance = 0.0}}.validate(),
             "surrogate.tolerance is 0; it must be finite and > 0");
+  EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),
+            "relinearization_budget is -1; it must be finite and >= 0");
+  EXPECT_EQ(ActiveOptions{.audit_period = 1}.validate(),
+            "audit_period and audit_window are 1 and 10; rule: audit_period = 0 (no audit), or "
+            "audit_period >= 2 and audit_window >= 3");
+  EXPECT_EQ(ActiveOptions{.audit_misfit = 0.5}.validate(),
+            "audit_misfit is 0.5; it must be finite and >= 1");
   const testing::AnalyticTwin twin = testing::make_twin(2);
   EXPECT_THROW((ActiveController<testing::AnalyticTwin, Dynamic>(
                    twin, RandomStream(1), ActiveOptions{.max_probe_fraction = 2.0})),

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -127,6 +128,87 @@ TEST(ConstantVelocityEstimator, AnAssemblyWithAModelErrorWeighsLess) {
   EXPECT_LT(erring, 0.5 * exact);
 }
 
+// Relinearization's bookkeeping: an entry's model replaced by the same quadratic centred where
+// the fit uses it (as a refit on a quadratic twin gives) leaves the fit where it was, and the
+// entry's point then lies at its model's centre.
+TEST(ConstantVelocityEstimator, AnExactModelRefittedWhereItIsUsedLeavesTheFit) {
+  DriftScenario scenario;
+  ConstantVelocityEstimator<3> estimator = make_estimator();
+  estimator.reset(0, Eigen::Vector3d::Zero());
+  const Eigen::Vector3d velocity(0.01, -0.02, 0.015);
+  std::vector<QuadraticModel<3>> models;
+  for (Index t = 0; t < 15; ++t) {
+    const Eigen::Vector3d u = scenario.next(t, estimator.position());
+    models.push_back(scenario.model);
+    estimator.add(t, scenario.model, u, scenario.plant(u, static_cast<double>(t) * velocity), 1e-6);
+    estimator.fit(t + 1);
+  }
+  const Eigen::Vector3d before = estimator.position();
+  EXPECT_DOUBLE_EQ(estimator.entry_model_variance(4), 1e-6);
+  Eigen::Vector3d point;
+  Eigen::Vector3d offset;
+  estimator.entry_point(4, point, offset);
+  EXPECT_GT(offset.norm(), 1e-3);
+  const QuadraticModel<3>& fitted = models[static_cast<std::size_t>(estimator.entry_time(4))];
+  QuadraticModel<3> recentred = fitted;
+  recentred.center = point;
+  recentred.value = fitted(point);
+  recentred.half_gradient = fitted.half_gradient + fitted.hessian * (point - fitted.center);
+  estimator.relinearize(4, recentred, 1e-6);
+  estimator.entry_point(4, point, offset);
+  EXPECT_LT(offset.norm(), 1e-12);
+  estimator.fit(15);
+  EXPECT_LT((estimator.position() - before).norm(), 1e-8);
+  // A new τ² weighs the entry anew.
+  estimator.relinearize(4, recentred, 4e-6);
+  EXPECT_DOUBLE_EQ(estimator.entry_model_variance(4), 4e-6);
+}
+
+// A history whose residuals all run 5σz (a twin whose models err more than their τ² says) is
+// not a change of velocity at every assembly: the gate is in units of the history's own misfit.
+// Without the scale (misfit_window = 0) the same data restart the fit again and again.
+TEST(ConstantVelocityEstimator, APersistentMisfitIsNotAChangeOfVelocity) {
+  const auto changes = [](Index misfit_window) {
+    DriftScenario scenario;
+    ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4,
+                                           {.misfit_window = misfit_window});
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    RandomStream noise(11);
+    const Eigen::Vector3d velocity(0.005, -0.01, 0.0075);
+    for (Index t = 0; t < 80; ++t) {
+      const Eigen::Vector3d u = scenario.next(t, estimator.position());
+      const double z = scenario.plant(u, static_cast<double>(t) * velocity) + 0.05 * noise.normal();
+      estimator.add(t, scenario.model, u, z);
+      estimator.fit(t + 1);
+    }
+    return estimator.changes();
+  };
+  EXPECT_LE(changes(25), 2);
+  EXPECT_GE(changes(0), 10);
+}
+
+TEST(ConstantVelocityEstimator, RefusesABadRelinearizationAndKeepsItsState) {
+  DriftScenario scenario;
+  ConstantVelocityEstimator<3> estimator = make_estimator();
+  estimator.reset(0, Eigen::Vector3d::Zero());
+  const Eigen::Vector3d u = scenario.next(0, estimator.position());
+  estimator.add(0, scenario.model, u, 0.6, 1e-6);
+  estimator.fit(1);
+  Eigen::Vector3d point;
+  Eigen::Vector3d before;
+  estimator.entry_point(0, point, before);
+  QuadraticModel<3> bad = scenario.model;
+  EXPECT_THROW(estimator.relinearize(1, bad, 0.0), InvalidArgumentError);
+  EXPECT_THROW(estimator.relinearize(-1, bad, 0.0), InvalidArgumentError);
+  EXPECT_THROW(estimator.relinearize(0, bad, -1.0), InvalidArgumentError);
+  bad.center(1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(estimator.relinearize(0, bad, 0.0), NonFiniteError);
+  Eigen::Vector3d after;
+  estimator.entry_point(0, point, after);
+  EXPECT_EQ(after, before);
+  EXPECT_DOUBLE_EQ(estimator.entry_model_variance(0), 1e-6);
+}
+
 TEST(ConstantVelocityEstimator, RefusesBadInputAndKeepsItsState) {
   DriftScenario scenario;
   ConstantVelocityEstimator<3> estimator = make_estimator();
@@ -154,6 +236,8 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
             "change_window and change_lag are 3 and 2; rule: 1 <= change_window <= change_lag");
   EXPECT_EQ(ConstantVelocityOptions{.initial_position_fraction = 0.6}.validate(),
             "initial_position_fraction is 0.6; rule: finite, > 0 and <= position_fraction = 0.5");
+  EXPECT_EQ(ConstantVelocityOptions{.misfit_window = 2}.validate(),
+            "misfit_window is 2; rule: 0 (the gate in units of σz alone) or >= 3");
   EXPECT_EQ(ConstantVelocityOptions{.max_history = 4}.validate(),
             "max_history is 4; rule: must be > change_lag = 6");
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d(2.0, 0.0, 2.0), 1e-4),

@@ -34,6 +34,34 @@ TEST(QuadraticSurrogate, FitsTheSquaredQualityOfAQuadraticTwinExactly) {
   EXPECT_LT(error, 1e-10);
 }
 
+// An earlier assembly's model refitted elsewhere with a given H (the active controller's
+// relinearization): d + 1 evaluations, exact for a quadratic twin, and the surrogate's own H and
+// its age untouched.
+TEST(QuadraticSurrogate, RefitsAGradientWithAGivenHessianAndKeepsItsOwn) {
+  const testing::AnalyticTwin twin = testing::make_twin(4);
+  const testing::CountingTwin counting(twin);
+  QuadraticSurrogate<testing::CountingTwin, Dynamic> surrogate(counting);
+  const AssemblyId x{3, 7};
+  QuadraticModel<Dynamic> own;
+  static_cast<void>(surrogate.fit(x, twin.optimum(x), own));
+  const bool stale = surrogate.hessian_stale();
+  const VectorX center = twin.optimum(x) + VectorX::LinSpaced(4, -0.2, 0.3);
+  QuadraticModel<Dynamic> refitted;
+  EXPECT_EQ(surrogate.refit_gradient(x, center, twin.curvature(), refitted), 5U);
+  EXPECT_EQ(counting.stats().evaluations, 15U + 5U);
+  const VectorX gradient = twin.curvature() * (center - twin.optimum(x));
+  EXPECT_LT((refitted.half_gradient - gradient).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_EQ(refitted.center, center);
+  EXPECT_EQ(refitted.hessian, twin.curvature());
+  EXPECT_EQ(surrogate.hessian_stale(), stale);
+  QuadraticModel<Dynamic> next;
+  EXPECT_EQ(surrogate.fit(x, twin.optimum(x), next), 5U);  // its own H is still kept
+  EXPECT_EQ(next.hessian, own.hessian);
+  EXPECT_THROW(
+      static_cast<void>(surrogate.refit_gradient(x, center, MatrixX::Identity(3, 3), refitted)),
+      DimensionMismatchError);
+}
+
 TEST(QuadraticSurrogate, ItsCheckRejectsATwinThatIsNotQuadratic) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(3));
   QuadraticSurrogate<RuggedTwin, 3> surrogate(twin);

@@ -16,6 +16,7 @@
 #include "twincal/models/drift.hpp"
 #include "twincal/models/evaluator.hpp"
 #include "twincal/models/execution.hpp"
+#include "twincal/models/kept_assemblies.hpp"
 #include "twincal/models/key_point_twin.hpp"
 #include "twincal/models/kink_nonlinearity.hpp"
 #include "twincal/models/locator_subset.hpp"
@@ -74,6 +75,30 @@ static_assert(TwinWithOptimum<Evaluator<RmsQuadraticTwin>>);
 static_assert(Twin<Evaluator<MinimalTwin>> && !TwinWithOptimum<Evaluator<MinimalTwin>>);
 static_assert(Twin<Evaluator<ExternalTwin, ParallelExecution>>);
 static_assert(Twin<Evaluator<Evaluator<MinimalTwin>>>);
+
+// --- TwinWithKeptAssemblies: value assemblies yes, borrowed ones no, wrappers forward ----------
+struct BorrowingTwin : MinimalTwin {
+  static constexpr bool borrows_assemblies = true;
+};
+struct TwinWithUnkeepableAssembly : MinimalTwin {
+  struct Handle {  // neither copyable nor default-constructible
+    explicit Handle(int) {}
+    Handle(const Handle&) = delete;
+  };
+  using Assembly = Handle;
+  [[nodiscard]] double quality(const Handle&, const Eigen::Ref<const VectorX>&) const {
+    return 0.0;
+  }
+  void quality_batch(const Handle&, const Eigen::Ref<const MatrixX>&, Eigen::Ref<VectorX>) const {}
+};
+static_assert(TwinWithKeptAssemblies<MinimalTwin>);
+static_assert(TwinWithKeptAssemblies<RmsQuadraticTwin>);
+static_assert(TwinWithKeptAssemblies<ExternalTwin>);
+static_assert(Twin<BorrowingTwin> && !TwinWithKeptAssemblies<BorrowingTwin>);
+static_assert(Twin<TwinWithUnkeepableAssembly> &&
+              !TwinWithKeptAssemblies<TwinWithUnkeepableAssembly>);
+static_assert(!TwinWithKeptAssemblies<Evaluator<BorrowingTwin>>);
+static_assert(TwinWithKeptAssemblies<LocatorSubset<RmsQuadraticTwin>>);
 
 // --- DeviationNonlinearity and the key-point twins ----------------------------------------------
 struct NonlinearityWithoutName {

@@ -22,6 +22,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/models/kept_assemblies.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -40,6 +41,7 @@ template <Twin T>
 class ComponentTwin {
  public:
   using Assembly = typename T::Assembly;
+  static constexpr bool borrows_assemblies = borrows_assemblies_v<T>;
 
   /// Locator `index` of the context's twin.
   /// @throws InvalidArgumentError when the index is not a locator of the twin.

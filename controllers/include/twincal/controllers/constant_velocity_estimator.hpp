@@ -24,6 +24,15 @@
 /// then), with a prior that widens the offset and the velocity along the old velocity's line,
 /// and keeps only the assemblies measured since.
 ///
+/// Misfit. Residuals larger than σz² + τ_k² explains (a twin whose models err more than their
+/// checks say) are measured by the median normalized innovation of the last assemblies, and the
+/// change gate and the significance test are taken in those units (ConstantVelocityOptions::
+/// misfit_window).
+///
+/// Relinearization. A model fitted where the estimate put an assembly is used, after later
+/// fits, where they put it; the owner can refit it there (entry_point(), relinearize()), which
+/// makes the fit Gauss–Newton on the twin itself rather than on the first models.
+///
 /// Local minima. A scalar quality is symmetric in the error r_k: a fit warm-started from the last
 /// estimate that explains the data badly is also started from its mirror image and from the
 /// prior mean, and the best of the three is kept.
@@ -31,7 +40,9 @@
 /// Cost per fit: O(n (2d)²) per iteration for n assemblies in the history, plus O(d³) solves;
 /// no allocation after construction (the history is a ring of `max_history` assemblies).
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include <fmt/format.h>
@@ -82,11 +93,13 @@ class ConstantVelocityEstimator {
     const Index capacity = options_.max_history;
     times_.assign(static_cast<std::size_t>(capacity), 0);
     controls_.resize(d, capacity);
+    applied_.resize(d, capacity);
     values_.resize(capacity);
     half_gradients_.resize(d, capacity);
     hessians_.resize(d, d * capacity);
     qualities_.resize(capacity);
     weights_.resize(capacity);
+    model_variances_.resize(capacity);
     const Index lags = options_.change_lag + 1;
     snapshot_times_.assign(static_cast<std::size_t>(lags), 0);
     snapshot_states_.resize(s, lags);
@@ -119,6 +132,8 @@ class ConstantVelocityEstimator {
     position_covariance_.resize(d, d);
     prior_scale_.resize(s);
     last_hessian_.resize(d, d);
+    innovations_.assign(static_cast<std::size_t>(options_.misfit_window), 0.0);
+    sorted_innovations_.assign(innovations_.size(), 0.0);
   }
 
   [[nodiscard]] Index dimension() const noexcept { return width_.size(); }
@@ -160,6 +175,8 @@ class ConstantVelocityEstimator {
     size_ = 0;
     head_ = 0;
     snapshots_ = 0;
+    innovation_count_ = 0;
+    misfit_scale_ = 1.0;
     changes_ = 0;
     changed_ = false;
     fitted_ = false;
@@ -205,6 +222,7 @@ class ConstantVelocityEstimator {
     const Index i = slot(size_);
     times_[static_cast<std::size_t>(i)] = time;
     controls_.col(i) = control - model.center;
+    applied_.col(i) = control;
     values_(i) = model.value;
     half_gradients_.col(i) = model.half_gradient;
     // H as fitted may have tiny negative eigenvalues (finite differences along directions the
@@ -214,17 +232,24 @@ class ConstantVelocityEstimator {
       hessians_.middleCols(i * d, d) = hessians_.middleCols(slot(size_ - 1) * d, d);
     } else {
       last_hessian_ = model.hessian;
-      clip_hessian(i);
+      clip_hessian(last_hessian_, i);
     }
     qualities_(i) = z;
     weights_(i) = 1.0 / (measurement_variance_ + model_variance);
+    model_variances_(i) = model_variance;
     ++size_;
 
     // The innovation of z against the prediction at `time` (a = position_, τ = 0).
     const double residual = residual_at(size_ - 1, state_, time);
     curvature_error_.noalias() = position_covariance_ * slope_;
     const double variance = 1.0 / weights_(slot(size_ - 1)) + slope_.dot(curvature_error_);
-    return residual * residual / variance;
+    const double normalized = residual * residual / variance;
+    if (options_.misfit_window > 0) {
+      innovations_[innovation_count_ % innovations_.size()] = normalized;
+      ++innovation_count_;
+      update_misfit_scale();
+    }
+    return normalized;
   }
 
   /// The estimate at assembly `time` from the prior and the history (see the file comment).
@@ -267,17 +292,72 @@ class ConstantVelocityEstimator {
     finish(time);
   }
 
- private:
-  // Stores last_hessian_, its negative eigenvalues clipped at 0, in ring slot i.
-  void clip_hessian(Index i) {
+  /// s², the history's misfit in units of its residuals' variance σz² + τ² (>= 1; see
+  /// ConstantVelocityOptions::misfit_window).
+  [[nodiscard]] double misfit_scale() const noexcept { return misfit_scale_; }
+
+  /// The time of history entry i (0 the oldest).
+  [[nodiscard]] Index entry_time(Index i) const noexcept { return time_of(i); }
+
+  /// Where entry i was measured in the twin's frame under the last fit, u_i − δu_i (δu_i = a +
+  /// (t_i − t) b), and how far that lies from its model's centre, in `offset`.
+  void entry_point(Index i, OffsetVector& point, OffsetVector& offset) const {
     const Index d = dimension();
-    hessian_eigen_.compute(last_hessian_);
+    const Index s = slot(i);
+    const double tau = static_cast<double>(times_[static_cast<std::size_t>(s)] - fit_time_);
+    point = applied_.col(s) - state_.head(d) - tau * state_.tail(d);
+    offset = controls_.col(s) - state_.head(d) - tau * state_.tail(d);
+  }
+
+  /// τ² of entry i: its residual's variance beyond σz².
+  [[nodiscard]] double entry_model_variance(Index i) const noexcept {
+    return model_variances_(slot(i));
+  }
+
+  /// The Hessian entry i's model uses (as fitted, negative eigenvalues clipped at 0).
+  [[nodiscard]] auto entry_hessian(Index i) const {
+    const Index d = dimension();
+    return hessians_.middleCols(slot(i) * d, d);
+  }
+
+  /// Replaces entry i's model by `model` (refitted for the same assembly, e.g. at entry_point):
+  /// the measurement stays; its residual variance becomes σz² + model_variance. The estimate
+  /// changes at the next fit().
+  /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError (i, model_variance);
+  ///         state unchanged.
+  void relinearize(Index i, const QuadraticModel<N>& model, double model_variance) {
+    const Index d = dimension();
+    if (i < 0 || i >= size_) {
+      throw InvalidArgumentError(
+          "i", fmt::format("i: value is {}; rule: must lie in [0, {}) (the history)", i, size_));
+    }
+    require_dimension("model", model.dimension(), d);
+    require_finite("model.center", model.center);
+    require_finite("model.value", model.value);
+    require_finite("model.half_gradient", model.half_gradient);
+    require_finite("model.hessian", model.hessian);
+    require_finite("model_variance", model_variance);
+    require_non_negative("model_variance", model_variance);
+    const Index s = slot(i);
+    controls_.col(s) = applied_.col(s) - model.center;
+    values_(s) = model.value;
+    half_gradients_.col(s) = model.half_gradient;
+    clip_hessian(model.hessian, s);
+    weights_(s) = 1.0 / (measurement_variance_ + model_variance);
+    model_variances_(s) = model_variance;
+  }
+
+ private:
+  // Stores `hessian`, its negative eigenvalues clipped at 0, in ring slot i.
+  void clip_hessian(const OffsetMatrix& hessian, Index i) {
+    const Index d = dimension();
+    hessian_eigen_.compute(hessian);
     if (hessian_eigen_.eigenvalues().minCoeff() < 0.0) {
       hessians_.middleCols(i * d, d).noalias() =
           hessian_eigen_.eigenvectors() * hessian_eigen_.eigenvalues().cwiseMax(0.0).asDiagonal() *
           hessian_eigen_.eigenvectors().transpose();
     } else {
-      hessians_.middleCols(i * d, d) = last_hessian_;
+      hessians_.middleCols(i * d, d) = hessian;
     }
   }
 
@@ -421,7 +501,20 @@ class ConstantVelocityEstimator {
       sum += weights_(slot(i)) * e * e;
     }
     const double mean = sum / static_cast<double>(window);
-    return mean > options_.change_gate * options_.change_gate;
+    return mean > options_.change_gate * options_.change_gate * misfit_scale_;
+  }
+
+  // The median of the kept normalized innovations over χ²(1)'s median (0.4549), at least 1.
+  void update_misfit_scale() {
+    const std::size_t kept = std::min(innovations_.size(), innovation_count_);
+    // Not before half the window is in: the first innovations also carry the start's error (a
+    // start far from the offset would otherwise gate off the changes that recover from it).
+    if (kept < innovations_.size() / 2 + 1) return;
+    std::copy_n(innovations_.begin(), kept, sorted_innovations_.begin());
+    const auto middle = sorted_innovations_.begin() + static_cast<std::ptrdiff_t>(kept / 2);
+    std::nth_element(sorted_innovations_.begin(), middle,
+                     sorted_innovations_.begin() + static_cast<std::ptrdiff_t>(kept));
+    misfit_scale_ = std::max(1.0, *middle / 0.4549);
   }
 
   // A change of velocity: the prior becomes the estimate of change_lag fits ago, widened along
@@ -460,7 +553,8 @@ class ConstantVelocityEstimator {
     const double no_offset = evaluate(trial_, time, false);
     const double fitted = evaluate(state_, time, true);  // and the Gauss–Newton matrix there
     const double dof = static_cast<double>(2 * d);
-    significant_ = no_offset - fitted > dof + options_.significance * std::sqrt(2.0 * dof);
+    significant_ =
+        (no_offset - fitted) / misfit_scale_ > dof + options_.significance * std::sqrt(2.0 * dof);
     assemble(state_);
     covariance_ = factor_.solve(identity_);
     symmetrize(covariance_);
@@ -481,12 +575,14 @@ class ConstantVelocityEstimator {
   VectorX width_;
   // The history, a ring of max_history assemblies starting at head_.
   std::vector<Index> times_;
-  Matrix<N, Dynamic> controls_;  // u_k − u0_k
+  Matrix<N, Dynamic> controls_;  // u_k − v_k, v_k the centre of entry k's model
+  Matrix<N, Dynamic> applied_;   // u_k
   VectorX values_;
   Matrix<N, Dynamic> half_gradients_;
   Matrix<N, Dynamic> hessians_;  // d × d blocks side by side
   VectorX qualities_;
-  VectorX weights_;  // 1/(σz² + τ_k²)
+  VectorX weights_;          // 1/(σz² + τ_k²)
+  VectorX model_variances_;  // τ_k²
   Index head_ = 0;
   Index size_ = 0;
   // The estimates of the last change_lag + 1 fits.
@@ -509,6 +605,10 @@ class ConstantVelocityEstimator {
   bool changed_ = false;
   bool significant_ = false;
   double data_cost_ = 0.0;
+  std::vector<double> innovations_;  // ν²/S of the last misfit_window assemblies (a ring)
+  std::vector<double> sorted_innovations_;
+  std::size_t innovation_count_ = 0;
+  double misfit_scale_ = 1.0;
   // Workspaces, sized once.
   StateMatrix shift_;
   StateVector shifted_mean_;

@@ -142,13 +142,35 @@ class QuadraticSurrogate {
       has_hessian_ = true;
       age_ = 0;
     } else {
-      for (Index i = 0; i < d; ++i) {
-        const double h = steps_(i);
-        model.half_gradient(i) = (values_(1 + i) - f0 - h * h * hessian_(i, i)) / (2.0 * h);
-      }
+      gradient_from_values(hessian_, model);
     }
     ++age_;
     model.hessian = hessian_;
+    return static_cast<std::uint64_t>(count);
+  }
+
+  /// A gradient fit around `center` with the given `hessian` (d + 1 evaluations), for an
+  /// assembly measured earlier whose model is refitted where it is now used; the surrogate's own
+  /// H and its age are unchanged.
+  /// @returns the twin evaluations spent.
+  /// @throws as fit(); the surrogate is unchanged.
+  template <typename Hessian>
+  std::uint64_t refit_gradient(const Assembly& assembly, const Vector<N>& center,
+                               const Eigen::MatrixBase<Hessian>& hessian,
+                               QuadraticModel<N>& model) {
+    const Index d = dimension();
+    require_dimension("center", center.size(), d);
+    require_shape("hessian", hessian, d, d);
+    const Index count = gradient_fit_evaluations();
+    auto points = points_.leftCols(count);
+    points.colwise() = center;
+    for (Index i = 0; i < d; ++i) points(i, 1 + i) += steps_(i);
+    evaluate_squares(assembly, points, values_.head(count));
+    model.center = center;
+    model.value = values_(0);
+    model.half_gradient.resize(d);
+    model.hessian = hessian;
+    gradient_from_values(model.hessian, model);
     return static_cast<std::uint64_t>(count);
   }
 
@@ -171,6 +193,16 @@ class QuadraticSurrogate {
   }
 
  private:
+  // g from Q² at v0 and v0 + h_i e_i (values_) with H known: one-sided differences corrected
+  // for the curvature.
+  void gradient_from_values(const SquareMatrix<N>& hessian, QuadraticModel<N>& model) const {
+    const double f0 = values_(0);
+    for (Index i = 0; i < dimension(); ++i) {
+      const double h = steps_(i);
+      model.half_gradient(i) = (values_(1 + i) - f0 - h * h * hessian(i, i)) / (2.0 * h);
+    }
+  }
+
   template <typename Points, typename Out>
   void evaluate_squares(const Assembly& assembly, const Points& points, Out&& out) const {
     twin_->quality_batch(assembly, points, out);

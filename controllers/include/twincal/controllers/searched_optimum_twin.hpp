@@ -22,6 +22,7 @@
 #include "twincal/controllers/optimizer.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/models/kept_assemblies.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -37,6 +38,7 @@ template <Twin T, Optimizer O = NloptOptimizer>
 class SearchedOptimumTwin {
  public:
   using Assembly = typename T::Assembly;
+  static constexpr bool borrows_assemblies = borrows_assemblies_v<T>;
 
   /// Takes `twin` and searches the optimum of each of `assemblies` (in order) with `optimizer`.
   /// @throws InvalidArgumentError when `assemblies` is empty; the twin's and the optimizer's

@@ -45,6 +45,7 @@
 #include "twincal/core/stopwatch.hpp"
 #include "twincal/models/evaluation_error.hpp"
 #include "twincal/models/execution.hpp"
+#include "twincal/models/kept_assemblies.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -75,6 +76,7 @@ template <Twin T, Execution E = SerialExecution>
 class Evaluator {
  public:
   using Assembly = typename T::Assembly;
+  static constexpr bool borrows_assemblies = borrows_assemblies_v<T>;
 
   /// @throws InvalidArgumentError when the options are invalid or ask for memoization of an
   ///         assembly type without std::hash / ==.

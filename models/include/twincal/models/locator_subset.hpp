@@ -20,6 +20,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/models/kept_assemblies.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -52,6 +53,7 @@ template <TwinWithOptimum T>
 class LocatorSubset {
  public:
   using Assembly = typename T::Assembly;
+  static constexpr bool borrows_assemblies = borrows_assemblies_v<T>;
 
   /// Restricts `twin` to the locators with the given indices (in that order).
   /// @throws InvalidArgumentError when `locators` is empty, repeats an index or names an index

@@ -23,6 +23,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/models/kept_assemblies.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -33,6 +34,7 @@ class QualityFeedback {
   static constexpr int dimension_at_compile_time = N;
   using TwinType = T;
   using Assembly = typename T::Assembly;
+  static constexpr bool borrows_assemblies = borrows_assemblies_v<T>;
   using StateVector = Vector<N>;
 
   /// The external inputs of eq. (5b): the assembly x_t and the applied control u_t.
