@@ -24,10 +24,10 @@ inline RmsQuadraticTwin make_twin(Index d) {
   return RmsQuadraticTwin::generate(options, RandomStream(11));
 }
 
-// Runs assemblies in episodes; `make` builds a fresh controller for each episode.
-template <int N, typename Make>
-void run_episodes(benchmark::State& state, const RmsQuadraticTwin& twin, const CountedTwin& counted,
-                  Make make) {
+// Runs assemblies in episodes; `make` builds a fresh controller for each episode. `counted` is
+// `twin` behind a counting Evaluator (the controller's); the plant is `twin` itself.
+template <int N, typename T, typename Counted, typename Make>
+void run_episodes(benchmark::State& state, const T& twin, const Counted& counted, Make make) {
   const Index d = twin.control_dimension();
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   using Controller = decltype(make(std::uint64_t{0}));

@@ -164,9 +164,10 @@ TEST(ConstantVelocityEstimator, AnExactModelRefittedWhereItIsUsedLeavesTheFit) {
   EXPECT_DOUBLE_EQ(estimator.entry_model_variance(4), 4e-6);
 }
 
-// A history whose residuals all run 5σz (a twin whose models err more than their τ² says) is
-// not a change of velocity at every assembly: the gate is in units of the history's own misfit.
-// Without the scale (misfit_window = 0) the same data restart the fit again and again.
+// A history whose residuals all run 5σz (models that err more than their τ² says) is not a
+// change of velocity at every assembly: the gate is in units of the history's own misfit.
+// Without the scale (misfit_window = 0) the same data restart the fit again and again; so they
+// do when the models claim to be exact (τ² = 0: an exact model's misfit is what the gate is for).
 TEST(ConstantVelocityEstimator, APersistentMisfitIsNotAChangeOfVelocity) {
   const auto changes = [](Index misfit_window) {
     DriftScenario scenario;
@@ -178,13 +179,36 @@ TEST(ConstantVelocityEstimator, APersistentMisfitIsNotAChangeOfVelocity) {
     for (Index t = 0; t < 80; ++t) {
       const Eigen::Vector3d u = scenario.next(t, estimator.position());
       const double z = scenario.plant(u, static_cast<double>(t) * velocity) + 0.05 * noise.normal();
-      estimator.add(t, scenario.model, u, z);
+      estimator.add(t, scenario.model, u, z, 1e-6);  // a model that errs, by less than it does
       estimator.fit(t + 1);
     }
     return estimator.changes();
   };
   EXPECT_LE(changes(25), 2);
   EXPECT_GE(changes(0), 10);
+}
+
+// residual_scale() sees a plant its models do not explain even when they claim to be exact: its
+// residuals run 5σz, and the scale passes the active controller's audit_misfit (4) although the
+// fit absorbs part of them (25 for residuals the fit could not touch), while a plant the models
+// explain stays at 1.
+TEST(ConstantVelocityEstimator, ItsResidualScaleSeesAPlantTheModelsDoNotExplain) {
+  const auto scale = [](double noise) {
+    DriftScenario scenario;
+    ConstantVelocityEstimator<3> estimator = make_estimator();
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    RandomStream draws(13);
+    for (Index t = 0; t < 40; ++t) {
+      const Eigen::Vector3d u = scenario.next(t, estimator.position());
+      estimator.add(t, scenario.model, u,
+                    scenario.plant(u, Eigen::Vector3d::Zero()) + noise * draws.normal());
+      estimator.fit(t + 1);
+    }
+    return estimator.residual_scale();
+  };
+  EXPECT_DOUBLE_EQ(scale(0.0), 1.0);
+  EXPECT_GT(scale(0.05), 4.0);
+  EXPECT_LT(scale(0.05), 60.0);
 }
 
 TEST(ConstantVelocityEstimator, RefusesABadRelinearizationAndKeepsItsState) {

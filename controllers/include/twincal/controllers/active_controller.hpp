@@ -420,20 +420,19 @@ class ActiveCalibrationController {
   }
 
   // Do no harm, measured: where the estimate is in doubt — the twin's model failed its check
-  // (τ² > 0), or the history misfits by audit_misfit or more (s², a plant that is not the twin)
-  // — every assembly whose estimate would be applied is audited: its regret joins the corrected
-  // or the uncorrected arm (an assembly held back by harmful() joins the uncorrected one). Every
-  // audit_period-th such assembly takes the other arm (corrected ↔ not), and the correction is
-  // applied only while the mean relative regret (z − z*)/z* of the last audit_window corrected
-  // assemblies is no larger than that of the last audit_window uncorrected ones. Until each arm has
-  // 3: with τ² > 0 the estimate, which weighs its models' errors, is trusted; on a misfit alone,
-  // which it does not explain, the arms alternate (measured: a kink plant behind a quadratic
-  // twin, 1.2 × the baseline trusted, 1.04 × alternating; contact twins, 0.18 → 0.31 × at d = 3 had
-  // they alternated too).
+  // (τ² > 0), or the fit misfits its own history by audit_misfit or more (the estimator's
+  // residual_scale(): a plant that is not the twin) — every assembly whose
+  // estimate would be applied is audited: its relative regret (z − z*)/z* joins the corrected or
+  // the uncorrected arm (an assembly held back by harmful() joins the uncorrected one). Every
+  // audit_period-th corrected assembly is left uncorrected (or the reverse while the correction
+  // is off), and the correction is applied only while the mean regret of the last audit_window
+  // corrected assemblies is no larger than that of the uncorrected ones. Until each arm has 3:
+  // with τ² > 0 the estimate, which weighs its models' errors, is trusted; on a misfit alone,
+  // which it does not explain, the arms alternate.
   void audit(bool wanted) {
     step_.audited = false;
     const bool erring_model = step_.model_variance > 0.0;
-    const bool doubtful = erring_model || estimator_.misfit_scale() >= options_.audit_misfit;
+    const bool doubtful = erring_model || estimator_.residual_scale() >= options_.audit_misfit;
     if (!quadratic_ || !doubtful || !wanted || options_.audit_period <= 0) return;
     step_.audited = true;
     if (!step_.corrected) return;  // held back by harmful(): an uncorrected sample all the same

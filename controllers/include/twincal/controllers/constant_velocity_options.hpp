@@ -37,8 +37,9 @@ struct ConstantVelocityOptions {
   double change_gate = 2.0;
   Index change_window = 2;
   /// The gate and the significance test are in units of the history's own misfit s²: the
-  /// median normalized innovation ν²/S of the last `misfit_window` assemblies over χ²(1)'s median
-  /// (0.4549), when that exceeds 1 (0: in units of σz alone). A twin whose local models err more
+  /// median normalized innovation ν²/S of the last `misfit_window` assemblies whose model errs
+  /// (τ² > 0) over χ²(1)'s median (0.4549), when that exceeds 1 (0: in units of σz alone; a twin
+  /// whose models pass their checks always is). A twin whose local models err more
   /// than their τ² says (contact, soft stops) would otherwise restart the fit at nearly every
   /// assembly — measured: 64–76 restarts per 100 assemblies on contact twins at d = 6 and 12,
   /// about 1 with the scale; 2 on quadratic twins either way (docs/reproduction.md).
