@@ -246,7 +246,7 @@ class ConstantVelocityEstimator {
     const double normalized = residual * residual / variance;
     // The gate's scale counts only entries whose model errs (τ² > 0): an exact model's misfit is
     // the estimate's own error or a change of velocity, which is what the gate is there to see
-    // (measured: with every entry, quadratic twins at d = 32 ran 0.18 × the baseline instead of
+    // (measured: with every entry, a quadratic twin at d = 32 ran a residual of 0.18 instead of
     // 0.14).
     if (options_.misfit_window > 0 && model_variance > 0.0) model_misfit_.add(normalized);
     return normalized;

@@ -1,0 +1,243 @@
+// Your own black box: four DeviationNonlinearity policies written here, outside the library, as a
+// user would write the shape of their own twin (models/deviation_nonlinearity.hpp) — soft stops,
+// a dead band, cubic stiffening of every key point, waviness — and the active controller run on
+// them with its default settings. These shapes were kept out of the project while the controller
+// was designed; docs/reproduction.md ("Black-box twins") reports what this program prints.
+//
+// Two modes, the paper's protocol (100 assemblies, the bouncing drift of eq. (15) on every
+// locator, NLopt-searched u0 and z*):
+//   twin   the twin is the key-point twin with the shape (the plant is the twin plus δu*);
+//   plant  the twin is the key-point twin without it and the plant has it (Assumption 1 broken).
+// Prints per shape: the twin's departure from a quadratic (twin mode), the median over the runs
+// of the mean relative residual (z − z*)/z* without calibration and with the active controller,
+// and the runs whose estimate lost the offset (further from δu* than no estimate, second half).
+//
+//   custom_nonlinearity [twin|plant] [runs] [dimension] [seed] [twin seed]
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "twincal/controllers/active_controller.hpp"
+#include "twincal/controllers/searched_optimum_twin.hpp"
+#include "twincal/models/bouncing_drift.hpp"
+#include "twincal/models/deviation_nonlinearity.hpp"
+#include "twincal/models/key_point_twin.hpp"
+#include "twincal/models/no_nonlinearity.hpp"
+#include "twincal/models/quadratic_departure.hpp"
+
+namespace {
+
+using namespace twincal;
+using Deviations = Eigen::Ref<VectorX>;
+using Constant = Eigen::Ref<const VectorX>;
+
+// Beyond a limit (per key point, drawn) a point moves only 20 % as far: a soft stop.
+class SoftStop {
+ public:
+  SoftStop(Index key_points, Index dimension, double strength, const RandomStream& stream)
+      : limit_(key_points), strength_(strength) {
+    RandomStream draws = stream.substream("soft_stop");
+    for (Index i = 0; i < key_points; ++i) {
+      limit_(i) = 0.3 * std::sqrt(static_cast<double>(dimension)) * (0.2 + draws.uniform());
+    }
+  }
+  static constexpr std::string_view name() { return "soft stop"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      const double beyond = std::abs(moved(i)) - limit_(i);
+      if (beyond > 0.0) r(i) -= strength_ * 0.8 * std::copysign(beyond, moved(i));
+    }
+  }
+
+ private:
+  VectorX limit_;
+  double strength_;
+};
+
+// Small moves are taken up by play (per key point, drawn): a dead band.
+class DeadBand {
+ public:
+  DeadBand(Index key_points, Index dimension, double strength, const RandomStream& stream)
+      : band_(key_points), strength_(strength) {
+    RandomStream draws = stream.substream("dead_band");
+    for (Index i = 0; i < key_points; ++i) {
+      band_(i) = 0.3 * std::sqrt(static_cast<double>(dimension)) * draws.uniform();
+    }
+  }
+  static constexpr std::string_view name() { return "dead band"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      r(i) -= strength_ * 0.7 * std::clamp(moved(i), -band_(i), band_(i));
+    }
+  }
+
+ private:
+  VectorX band_;
+  double strength_;
+};
+
+// Every key point stiffens (or softens) with the cube of how far it moved.
+class Cubic {
+ public:
+  Cubic(Index /*key_points*/, Index dimension, double strength, const RandomStream& /*stream*/)
+      : scale_(0.4 * std::sqrt(static_cast<double>(dimension))), strength_(strength) {}
+  static constexpr std::string_view name() { return "cubic"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      const double m = moved(i) / scale_;
+      r(i) += strength_ * 0.3 * scale_ * m * m * m;
+    }
+  }
+
+ private:
+  double scale_;
+  double strength_;
+};
+
+// A ripple in every key point's response (phases drawn): smooth, but no polynomial.
+class Waviness {
+ public:
+  Waviness(Index key_points, Index dimension, double strength, const RandomStream& stream)
+      : phase_(key_points),
+        scale_(0.2 * std::sqrt(static_cast<double>(dimension))),
+        strength_(strength) {
+    RandomStream draws = stream.substream("waviness");
+    for (Index i = 0; i < key_points; ++i) phase_(i) = 2.0 * M_PI * draws.uniform();
+  }
+  static constexpr std::string_view name() { return "waviness"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      r(i) += strength_ * 0.3 * scale_ *
+              (std::sin(3.0 * moved(i) / scale_ + phase_(i)) - std::sin(phase_(i)));
+    }
+  }
+
+ private:
+  VectorX phase_;
+  double scale_;
+  double strength_;
+};
+
+static_assert(DeviationNonlinearity<SoftStop> && DeviationNonlinearity<DeadBand> &&
+              DeviationNonlinearity<Cubic> && DeviationNonlinearity<Waviness>);
+
+struct Settings {
+  bool plant_mode = false;
+  int runs = 10;
+  Index dimension = 3;
+  std::uint64_t seed = 7;
+  std::uint64_t twin_seed = 11;
+};
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+struct Outcome {
+  double baseline = 0.0;  // mean (z − z*)/z* at u0 − δu*
+  double active = 0.0;
+  bool lost = false;
+};
+
+// One episode: `twin` drives the controller, `plant` answers (the same object in twin mode).
+template <typename T, typename P>
+Outcome run_episode(const T& twin, const P& plant, const RandomStream& run) {
+  std::vector<AssemblyId> order = twin.assemblies();
+  RandomStream shuffle = run.substream("order");
+  for (std::size_t i = order.size() - 1; i > 0; --i) {
+    const auto j = static_cast<std::size_t>(shuffle.uniform() * static_cast<double>(i + 1));
+    std::swap(order[i], order[std::min(j, i)]);
+  }
+  RandomStream drift_stream = run.substream("drift");
+  BouncingDrift<Dynamic> drift =
+      BouncingDrift<Dynamic>::random(twin.control_dimension(), drift_stream);
+  ActiveController<T> controller(twin, run.substream("controller"));
+  Outcome outcome;
+  double error = 0.0;
+  double offset = 0.0;
+  for (std::size_t t = 0; t < order.size(); ++t) {
+    const AssemblyId& x = order[t];
+    drift.advance();
+    const VectorX u = controller.propose(x);
+    const double z = plant.quality(x, VectorX(u - drift.offset()));
+    controller.observe(x, u, z);
+    const double best = plant.optimal_quality(x);
+    outcome.active += (z - best) / best;
+    outcome.baseline += (plant.quality(x, VectorX(twin.optimum(x) - drift.offset())) - best) / best;
+    if (2 * t >= order.size()) {
+      error += (controller.offset_estimate() - drift.offset()).norm();
+      offset += drift.offset().norm();
+    }
+  }
+  outcome.baseline /= static_cast<double>(order.size());
+  outcome.active /= static_cast<double>(order.size());
+  outcome.lost = error > offset;
+  return outcome;
+}
+
+template <typename Shape>
+void report(const Settings& settings) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = settings.dimension;
+  const RandomStream twin_stream(settings.twin_seed);
+  KeyPointTwin<Shape> shaped(options, twin_stream);
+  const std::vector<AssemblyId> assemblies = shaped.assemblies();
+  const SearchedOptimumTwin<KeyPointTwin<Shape>> with_shape(std::move(shaped), assemblies);
+  // The twin's own departure from a quadratic, median over 5 assemblies.
+  std::vector<double> departures;
+  for (std::size_t k = 0; k < 5; ++k) {
+    departures.push_back(quadratic_departure(with_shape, assemblies[k],
+                                             with_shape.optimum(assemblies[k]), RandomStream(5)));
+  }
+  const KeyPointTwin<NoNonlinearity> without_shape(options, twin_stream);
+  std::vector<double> baseline;
+  std::vector<double> active;
+  int lost = 0;
+  for (int r = 0; r < settings.runs; ++r) {
+    const RandomStream run =
+        RandomStream(settings.seed).substream("run").substream(static_cast<std::uint64_t>(r));
+    const Outcome outcome = settings.plant_mode ? run_episode(without_shape, with_shape, run)
+                                                : run_episode(with_shape, with_shape, run);
+    baseline.push_back(outcome.baseline);
+    active.push_back(outcome.active);
+    lost += outcome.lost ? 1 : 0;
+  }
+  const double ratio = median(active) / median(baseline);
+  fmt::print("{:<10} {:>9.3f} {:>14.4f} {:>10.4f} ({:.2f}x) {:>4}/{}\n", Shape::name(),
+             median(departures), median(baseline), median(active), ratio, lost, settings.runs);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Settings settings;
+  const std::string mode = argc > 1 ? argv[1] : "twin";
+  settings.plant_mode = mode == "plant";
+  if (argc > 2) settings.runs = std::atoi(argv[2]);
+  if (argc > 3) settings.dimension = std::atol(argv[3]);
+  if (argc > 4) settings.seed = std::strtoull(argv[4], nullptr, 10);
+  if (argc > 5) settings.twin_seed = std::strtoull(argv[5], nullptr, 10);
+  if ((mode != "twin" && mode != "plant") || settings.runs < 1 || settings.dimension < 1) {
+    fmt::print(stderr,
+               "usage: custom_nonlinearity [twin|plant] [runs >= 1] [dimension >= 1] [seed] "
+               "[twin seed]\n");
+    return 2;
+  }
+  fmt::print("{} mode, d = {}, {} runs of 100 assemblies, seed {}, twin seed {}\n", mode,
+             settings.dimension, settings.runs, settings.seed, settings.twin_seed);
+  fmt::print("{:<10} {:>9} {:>14} {:>17} {:>6}\n", "shape", "departure", "no calibration", "active",
+             "lost");
+  report<SoftStop>(settings);
+  report<DeadBand>(settings);
+  report<Cubic>(settings);
+  report<Waviness>(settings);
+  return 0;
+}
