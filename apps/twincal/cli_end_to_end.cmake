@@ -108,6 +108,24 @@ foreach(sweep IN LISTS sweeps)
   endif()
 endforeach()
 
+# 7b. Configs that once crashed or wrapped: 200 000 levels of nesting (SIGSEGV) and a run count
+# whose episodes overflowed ("-2 episodes") are refused with the rule they break.
+string(REPEAT "[" 200000 deep)
+file(WRITE "${WORK_DIR}/deep.json" "{\"case\": ${deep}}")
+file(WRITE "${WORK_DIR}/runs.json" "{\"runs\": 9223372036854775807}")
+foreach(pair "deep.json|nests 200001 levels of arrays and objects; rule: at most 64"
+             "runs.json|runs is 9223372036854775807; rule: must be >= 1 and <= 1000000")
+  string(REPLACE "|" ";" pair "${pair}")
+  list(GET pair 0 config)
+  list(GET pair 1 expected)
+  execute_process(COMMAND "${TWINCAL}" run --config "${WORK_DIR}/${config}" --dry-run
+    RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_QUIET)
+  string(FIND "${err}" "${expected}" found)
+  if(NOT status EQUAL 1 OR found EQUAL -1)
+    message(FATAL_ERROR "run --config ${config} --dry-run: status ${status}, printed:\n${err}")
+  endif()
+endforeach()
+
 # 8. The external case: the minimal twin of examples/external_twin (a Python program) gives the
 # same episodes with 1 and 3 worker processes, and --twin-command overrides the config's.
 # 4 × 5 assemblies keep the u0 searches short.

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <string_view>
@@ -22,6 +23,7 @@
 
 #include "arguments.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/json_nesting.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
@@ -74,8 +76,10 @@ constexpr const char* execution_help =
 json read_json_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw Error(path, fmt::format("{}: cannot be opened", path));
+  const std::string text(std::istreambuf_iterator<char>(in), {});
+  require_json_nesting(text, path);
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const json::exception& error) {
     throw InvalidArgumentError(path, fmt::format("{}: is not valid JSON ({})", path, error.what()));
   }

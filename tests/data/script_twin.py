@@ -13,6 +13,8 @@ misbehave on purpose with A.mode:
   "pid"          reply with the process id as every quality (tests restarts)
   "chatty"       reply, then write a second, unrequested line
   "wrong_id"     reply with the id of another request
+  "deep"         reply with 100 000 nested arrays
+  "bad_utf8"     reply with bytes that are not UTF-8
   "crash_once", "hang_once"
                  crash or hang if the file A.marker does not exist yet (creating it, so that
                  exactly one process of a pool misbehaves, once), else reply normally
@@ -47,6 +49,12 @@ def main():
         reply_id = request["id"] + (1 if mode == "wrong_id" else 0)
         if mode == "garbage":
             reply = "this is not json"
+        elif mode == "deep":
+            reply = "[" * 100000 + "]" * 100000
+        elif mode == "bad_utf8":
+            sys.stdout.buffer.write(b'{"id": %d, "qualities": ["\xff\xfe"]}\n' % reply_id)
+            sys.stdout.flush()
+            continue
         elif mode == "hang":
             time.sleep(60)
             continue

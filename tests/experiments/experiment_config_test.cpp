@@ -1,5 +1,7 @@
 #include "twincal/experiments/experiment_config.hpp"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -123,6 +125,9 @@ TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
   config.runs = 0;
   ASSERT_TRUE(config.validate().has_value());
   EXPECT_NE(config.validate()->find("runs is 0"), std::string::npos);
+  // A count whose episodes overflow (it printed "-2 episodes") is refused, not wrapped.
+  config.runs = std::numeric_limits<Index>::max();
+  EXPECT_EQ(config.validate(), "runs is 9223372036854775807; rule: must be >= 1 and <= 1000000");
   config = {};
   config.controllers = {ControllerSpec::default_controller(), ControllerSpec::default_controller()};
   ASSERT_TRUE(config.validate().has_value());

@@ -5,6 +5,9 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -117,6 +120,31 @@ TEST(ExternalTwin, KillsAndRestartsAChildThatSendsGarbage) {
                           "not json\"; the child was killed by signal 9 and will be restarted"));
   }
   EXPECT_NE(pid_of(twin), first);
+}
+
+// Replies that once escaped as an unnamed parser error or could exhaust the stack: nesting
+// beyond the bound, bytes that are not UTF-8 (quoted back as U+FFFD, so the message itself is
+// valid text). Both are malformed replies: the child is restarted.
+TEST(ExternalTwin, NamesADeepOrNonUtf8ReplyAndRestartsTheChild) {
+  const ExternalTwin twin(script_options());
+  VectorX out(2);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"deep", "malformed reply: the reply nests deeper than 64 arrays and objects: \"[[[["},
+      {"bad_utf8", "malformed reply: the reply is not JSON: \"{\\\"id\\\": "}};
+  for (const auto& [mode, message] : cases) {
+    const pid_t before = pid_of(twin);
+    try {
+      twin.quality_batch(misbehaving(mode), MatrixX::Zero(2, 2), out);
+      FAIL() << mode << ": expected ExternalTwinError";
+    } catch (const ExternalTwinError& error) {
+      EXPECT_EQ(error.failure(), ExternalTwinFailure::malformed_reply) << mode;
+      EXPECT_THAT(error.what(), HasSubstr(message)) << mode;
+      // The message is text a JSON writer takes as it is.
+      EXPECT_NO_THROW(static_cast<void>(nlohmann::json(std::string(error.what())).dump()));
+    }
+    EXPECT_NE(pid_of(twin), before) << mode;
+  }
+  EXPECT_EQ(twin.quality(kAssembly, Eigen::Vector2d(0.1, -0.2)), 0.5);
 }
 
 TEST(ExternalTwin, KillsAndRestartsAChildThatTimesOut) {

@@ -168,6 +168,15 @@ TEST(ServeSession, AnswersEveryBadRequestWithAnErrorAndChangesNothing) {
        "request_id: is missing or not an integer"},
       {R"({"op": "predict", "assembly": 5, "control": [0, 0]})", "control",
        "control: is [0,0]; rule: an array of 3 numbers"},
+      // Numbers beyond double's range, integers beyond 64 bits, nesting beyond the bound: each
+      // once ended the server for every client.
+      {R"({"op": "state", "x": 1e309})", "line", "number overflow parsing '1e309'"},
+      {R"({"op": "state", "x": 123456789012345678901234567890})", "x",
+       "x: is not a field of state"},
+      {std::string(100, '[') + std::string(100, ']'), "line",
+       "line: nests 100 levels of arrays and objects; rule: at most 64"},
+      {R"({"op": "state", "case": )" + std::string(200000, '[') + "}", "line",
+       "line: nests 200001 levels"},
       // Not UTF-8: quoted back as U+FFFD, the reply still valid JSON.
       {"{\"op\": \"\xff\"}", "line", "line: is not JSON"},
       {"{\"op\": \"state\", \"\xc3\": 1", "line", "line: is not JSON"},
@@ -184,6 +193,40 @@ TEST(ServeSession, AnswersEveryBadRequestWithAnErrorAndChangesNothing) {
     EXPECT_EQ(session.history().records().size(), records);
   }
   EXPECT_FALSE(session.finished());
+}
+
+// A finite but absurd quality (1e154) once left the paper's filter with a NaN covariance, and
+// every later request failed on it. Now an observation is either taken with a finite, positive
+// definite state, or refused naming the quality with the state as before it; either way the cell
+// goes on: the same assembly is observed properly and 20 more follow.
+TEST(ServeSession, AnAbsurdQualityNeverLeavesAStateThatCannotGoOn) {
+  for (const std::string controller : {"default", "w=1", "active"}) {
+    SCOPED_TRACE(controller);
+    const TemporaryDatabase database;
+    ServeSession session = ServeSession::start(analytic_options(controller), database.get());
+    drive(session, 0, 3);
+    const json pending = call(session, {{"op", "propose"}, {"assembly", 5}});
+    ASSERT_TRUE(pending["ok"].get<bool>());
+    const json before = session.state();
+    const json absurd = call(
+        session, {{"op", "observe"}, {"request_id", pending["request_id"]}, {"quality", 1e154}});
+    if (absurd["ok"].get<bool>()) {
+      for (const json& row : absurd["covariance"]) {
+        for (const json& entry : row) EXPECT_TRUE(entry.is_number()) << absurd.dump();
+      }
+      {}
+    } else {
+      EXPECT_EQ(absurd["error"]["field"], "quality");
+      EXPECT_THAT(absurd["error"]["message"].get<std::string>(),
+                  HasSubstr("quality: 1e+154 leaves the offset estimate"));
+      EXPECT_EQ(session.state(), before);
+      const json observed = call(session, {{"op", "observe"},
+                                           {"request_id", pending["request_id"]},
+                                           {"quality", plant(session, 5, pending["control"])}});
+      EXPECT_TRUE(observed["ok"].get<bool>()) << observed.dump();
+    }
+    drive(session, 4, 24);
+  }
 }
 
 TEST(ServeSession, PredictsWithTheTwinAndReportsStateCheckpointAndShutdown) {

@@ -135,7 +135,9 @@ std::optional<std::string> ExperimentConfig::validate() const {
   if (candidate_cap && *candidate_cap < 1) {
     return fmt::format("candidate_cap is {}; rule: must be >= 1 (unset: no cap)", *candidate_cap);
   }
-  if (runs < 1) return fmt::format("runs is {}; rule: must be >= 1", runs);
+  if (runs < 1 || runs > max_runs) {
+    return fmt::format("runs is {}; rule: must be >= 1 and <= {}", runs, max_runs);
+  }
   if (assemblies < 1) return fmt::format("assemblies is {}; rule: must be >= 1", assemblies);
   if (name.find_first_of(",\n\"") != std::string::npos) {
     return fmt::format("name is \"{}\"; rule: must not contain commas, quotes or newlines", name);

@@ -6,7 +6,10 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <Eigen/Cholesky>
 
+#include "twincal/core/error.hpp"
+#include "twincal/core/json_nesting.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/experiments/episode_runner.hpp"
 #include "twincal/experiments/twin_cases.hpp"
@@ -119,8 +122,12 @@ std::string ServeSession::handle(std::string_view line) {
   if (line.size() > max_line_bytes) return oversized_reply(line.size());
   json request;
   try {
+    require_json_nesting(line, "line");
     request = json::parse(line);
-  } catch (const json::parse_error& error) {
+  } catch (const InvalidArgumentError& error) {
+    return line_of(error_reply(nullptr, error.argument(), error.what()));
+  } catch (const json::exception& error) {
+    // Any parser failure, a number beyond double's range (1e309) included.
     return line_of(
         error_reply(nullptr, "line", fmt::format("line: is not JSON ({})", error.what())));
   }
@@ -326,8 +333,9 @@ json ServeSession::observe(const json& request) {
   }
   try {
     controller_.observe(pending_->assembly, pending_->control, quality);
+    require_sound_state(quality);
   } catch (...) {
-    rebuild();
+    rebuild();  // the history does not hold this observation: the state is as before it
     throw;
   }
   json estimate = estimate_json();
@@ -417,6 +425,27 @@ void ServeSession::replay() {
     if (covariance_json() != record.covariance) throw mismatch("covariance");
     ++observed_;
   }
+}
+
+void ServeSession::require_sound_state(double quality) const {
+  if (!controller_.estimates()) return;  // no estimate, nothing an observation can spoil
+  controller_.offset_estimate(estimate_);
+  controller_.offset_covariance(covariance_);
+  const VectorX reach = max_estimate_widths * (twin_->upper_bounds() - twin_->lower_bounds());
+  std::string_view broken;
+  if (!estimate_.allFinite() || !covariance_.allFinite()) {
+    broken = "the offset estimate or its covariance non-finite";
+  } else if ((estimate_.array().abs() > reach.array()).any()) {
+    broken = "the offset estimate beyond max_estimate_widths (1000) box widths";
+  } else if (covariance_.llt().info() != Eigen::Success) {
+    broken = "the offset covariance not positive definite";
+  } else {
+    return;
+  }
+  throw NonFiniteError("quality",
+                       fmt::format("quality: {} leaves {}; rule: an observation the controller can "
+                                   "take (it is refused, and the state is as before it)",
+                                   quality, broken));
 }
 
 void ServeSession::rebuild() {

@@ -52,6 +52,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/json_nesting.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/models/twin.hpp"
@@ -242,9 +243,9 @@ class ExternalTwin {
       const std::string unsolicited = buffer_;
       const std::string ended = stop(/*graceful=*/false);
       throw fail(ExternalTwinFailure::malformed_reply,
-                 fmt::format("unrequested output \"{}\" before the request; the child {} and "
+                 fmt::format("unrequested output {} before the request; the child {} and "
                              "will be restarted",
-                             unsolicited.substr(0, 200), ended));
+                             shown_text(unsolicited), ended));
     }
     if (!running()) start(assembly, controls);
     const Clock::time_point deadline =
@@ -412,25 +413,38 @@ class ExternalTwin {
     }
   }
 
+  // The first 200 bytes of a child's output as a JSON string: bytes that are not UTF-8 become
+  // U+FFFD, so the message can go anywhere text goes (a results file, a serve reply).
+  static std::string shown_text(std::string_view text) {
+    return nlohmann::json(std::string(text.substr(0, 200)))
+        .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+
   template <typename Fail>
   void parse_reply(const std::string& line, std::uint64_t id, Eigen::Ref<VectorX> out,
                    const Fail& fail) const {
     const auto malformed = [&](std::string_view why) {
       const std::string ended = stop(/*graceful=*/false);
-      constexpr std::size_t shown = 200;
-      return fail(ExternalTwinFailure::malformed_reply,
-                  fmt::format("{}: \"{}\"; the child {} and will be restarted", why,
-                              line.substr(0, shown), ended));
+      return fail(
+          ExternalTwinFailure::malformed_reply,
+          fmt::format("{}: {}; the child {} and will be restarted", why, shown_text(line), ended));
     };
+    if (json_nesting_depth(line) > max_json_nesting) {
+      throw malformed("the reply nests deeper than 64 arrays and objects");
+    }
     const nlohmann::json reply = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
     if (reply.is_discarded()) throw malformed("the reply is not JSON");
+    // A reply's strings may hold bytes that are not UTF-8: quoted as U+FFFD, not thrown.
+    const auto quoted = [](const nlohmann::json& value) {
+      return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    };
     if (!reply.is_object()) throw malformed("the reply is not a JSON object");
     if (const auto echoed = reply.find("id"); echoed != reply.end() && *echoed != id) {
-      throw malformed(fmt::format("the reply is for request {}, not {}", echoed->dump(), id));
+      throw malformed(fmt::format("the reply is for request {}, not {}", quoted(*echoed), id));
     }
     if (const auto error = reply.find("error"); error != reply.end()) {
       throw fail(ExternalTwinFailure::twin_error,
-                 error->is_string() ? error->get<std::string>() : error->dump());
+                 error->is_string() ? error->get<std::string>() : quoted(*error));
     }
     const auto qualities = reply.find("qualities");
     if (qualities == reply.end() || !qualities->is_array()) {

@@ -90,7 +90,10 @@ struct ExperimentConfig {
   double drift_bound = 0.5;
 
   // --- protocol --------------------------------------------------------------------------------
+  /// Episodes per controller and group, at most max_runs (the study lists its episodes before
+  /// it runs them; a larger study is split into several results directories).
   Index runs = 10;
+  static constexpr Index max_runs = 1'000'000;
   /// Assemblies per episode, taken from the twin's assemblies in a seeded random order.
   Index assemblies = 100;
   std::uint64_t seed = 2023;

@@ -63,6 +63,11 @@ class ServeSession {
  public:
   /// A line longer than this (without its newline) is refused unread.
   static constexpr std::size_t max_line_bytes = 1 << 20;
+  /// An observation that leaves the offset estimate beyond this many box widths on a locator
+  /// (or the estimate or its covariance non-finite, or the covariance not positive definite) is
+  /// refused and the state kept: no cell is that far off, and a filter's sigma points lose
+  /// every digit there (a quality of 1e154 put the paper's filter at 1e137 mm).
+  static constexpr double max_estimate_widths = 1000.0;
 
   /// A new session writing to a new database at `database`.
   /// @throws InvalidArgumentError for invalid options; HistoryStoreError.
@@ -128,6 +133,9 @@ class ServeSession {
   void replay();
   // Rebuilds the controller from the settings and the store (after a failed step).
   void rebuild();
+  // After an observe, for a controller that estimates: the state is one it can go on from
+  // (max_estimate_widths); otherwise NonFiniteError naming the quality (the caller rebuilds).
+  void require_sound_state(double quality) const;
 
   ServeOptions options_;
   std::unique_ptr<CaseTwin> twin_;  // heap: the controller holds its address; grows by scans
