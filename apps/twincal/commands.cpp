@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <csignal>
 
 #include <charconv>
@@ -9,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <set>
 #include <string>
 #include <string_view>
@@ -76,7 +76,12 @@ constexpr const char* execution_help =
 json read_json_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw Error(path, fmt::format("{}: cannot be opened", path));
-  const std::string text(std::istreambuf_iterator<char>(in), {});
+  // Read in chunks (GCC 12 sees a null dereference in istreambuf_iterator's inlined code).
+  std::string text;
+  std::array<char, 1 << 16> chunk{};
+  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+  }
   require_json_nesting(text, path);
   try {
     return json::parse(text);

@@ -1,22 +1,34 @@
 // serve_stream and serve_tcp (line_server.hpp).
 #include "twincal/serve/line_server.hpp"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <deque>
+#include <memory>
 #include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
+#include <boost/asio/buffer.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/address_v4.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/write.hpp>
+#include <nlohmann/json.hpp>
 
 #include "twincal/core/options.hpp"
+#include "twincal/serve/line_splitter.hpp"
 
 namespace twincal {
 namespace {
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+using boost::system::error_code;
 
 void write_all(int fd, std::string_view text) {
   while (!text.empty()) {
@@ -29,27 +41,182 @@ void write_all(int fd, std::string_view text) {
   }
 }
 
-// A socket or descriptor closed on scope exit.
-class Descriptor {
+// One event loop for every connection: requests reach the one session in the order their lines
+// arrive, and a connection that is silent, slow or never reads its replies holds only its own
+// buffers (ListenOptions' limits).
+class TcpServer {
  public:
-  explicit Descriptor(int fd) noexcept : fd_(fd) {}
-  Descriptor(const Descriptor&) = delete;
-  Descriptor& operator=(const Descriptor&) = delete;
-  ~Descriptor() {
-    if (fd_ >= 0) ::close(fd_);
+  TcpServer(ServeSession& session, const ListenOptions& options)
+      : acceptor_(io_), session_(session), options_(options) {
+    const tcp::endpoint endpoint(asio::ip::make_address_v4(options.host),
+                                 static_cast<unsigned short>(options.port));
+    error_code error;
+    acceptor_.open(endpoint.protocol(), error);
+    if (!error) acceptor_.set_option(tcp::acceptor::reuse_address(true), error);
+    if (!error) acceptor_.bind(endpoint, error);
+    if (!error) acceptor_.listen(asio::socket_base::max_listen_connections, error);
+    if (error) {
+      throw Error("listen", fmt::format("listen: cannot listen on {}:{} ({})", options.host,
+                                        options.port, error.message()));
+    }
   }
-  [[nodiscard]] int get() const noexcept { return fd_; }
+
+  [[nodiscard]] int port() const { return acceptor_.local_endpoint().port(); }
+
+  // Until a shutdown request's reply is written; rethrows HistoryStoreError.
+  void run() {
+    accept();
+    io_.run();
+  }
 
  private:
-  int fd_;
+  class Connection;
+
+  void accept() {
+    acceptor_.async_accept([this](const error_code& error, tcp::socket socket) {
+      if (session_.finished()) return;
+      if (!error) admit(std::move(socket));
+      accept();
+    });
+  }
+
+  void admit(tcp::socket socket);
+
+  asio::io_context io_;
+  tcp::acceptor acceptor_;
+  ServeSession& session_;
+  ListenOptions options_;
+  int open_ = 0;
 };
+
+class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
+ public:
+  Connection(TcpServer& server, tcp::socket socket)
+      : server_(server), socket_(std::move(socket)), timer_(server.io_) {
+    ++server_.open_;
+  }
+
+  void start() {
+    arm_timer();
+    read();
+  }
+
+ private:
+  void read() {
+    socket_.async_read_some(asio::buffer(chunk_),
+                            [self = shared_from_this()](const error_code& error, std::size_t n) {
+                              self->on_read(error, n);
+                            });
+  }
+
+  void on_read(const error_code& error, std::size_t bytes) {
+    if (closed_) return;
+    if (error) {
+      // The client closed its side (or the connection broke): replies still queued go out.
+      reading_ = false;
+      if (out_.empty()) close();
+      return;
+    }
+    arm_timer();
+    ServeSession& session = server_.session_;
+    splitter_.feed(
+        std::string_view(chunk_.data(), bytes),
+        [&](std::string_view line) { queue(session.handle(line)); },
+        [&](std::size_t oversized) { queue(ServeSession::oversized_reply(oversized)); },
+        [&] { return !closed_ && !session.finished(); });
+    if (!closed_ && !session.finished()) read();
+  }
+
+  // A client that lets more than max_reply_backlog bytes of replies pile up is not reading
+  // them: its connection is closed, and no one else waits for it.
+  void queue(std::string reply) {
+    if (closed_) return;
+    reply += '\n';
+    backlog_ += reply.size();
+    if (backlog_ > server_.options_.max_reply_backlog) {
+      close();
+      return;
+    }
+    out_.push_back(std::move(reply));
+    if (out_.size() == 1) write();
+  }
+
+  void write() {
+    asio::async_write(socket_, asio::buffer(out_.front()),
+                      [self = shared_from_this()](const error_code& error, std::size_t) {
+                        self->on_written(error);
+                      });
+  }
+
+  void on_written(const error_code& error) {
+    if (closed_) return;
+    if (error) {
+      close();
+      return;
+    }
+    backlog_ -= out_.front().size();
+    out_.pop_front();
+    if (!out_.empty()) {
+      write();
+    } else if (server_.session_.finished()) {
+      server_.io_.stop();  // the shutdown reply is out
+    } else if (!reading_) {
+      close();
+    }
+  }
+
+  void arm_timer() {
+    timer_.expires_after(server_.options_.idle_timeout);
+    timer_.async_wait([weak = weak_from_this()](const error_code& error) {
+      if (error) return;  // re-armed or cancelled
+      if (const auto self = weak.lock()) self->close();
+    });
+  }
+
+  void close() {
+    if (closed_) return;
+    closed_ = true;
+    --server_.open_;
+    error_code ignored;
+    socket_.shutdown(tcp::socket::shutdown_both, ignored);
+    socket_.close(ignored);
+    timer_.cancel();
+  }
+
+  TcpServer& server_;
+  tcp::socket socket_;
+  asio::steady_timer timer_;
+  std::array<char, 1 << 16> chunk_{};
+  LineSplitter splitter_;
+  std::deque<std::string> out_;
+  std::size_t backlog_ = 0;
+  bool reading_ = true;
+  bool closed_ = false;
+};
+
+void TcpServer::admit(tcp::socket socket) {
+  if (open_ >= options_.max_connections) {
+    const nlohmann::json refusal = {
+        {"ok", false},
+        {"op", nullptr},
+        {"error",
+         {{"field", "connection"},
+          {"message", fmt::format("connection: the server has {} open; rule: at most {} "
+                                  "(ListenOptions::max_connections)",
+                                  open_, options_.max_connections)}}}};
+    error_code ignored;
+    asio::write(socket, asio::buffer(refusal.dump() + '\n'), ignored);
+    socket.close(ignored);
+    return;
+  }
+  std::make_shared<Connection>(*this, std::move(socket))->start();
+}
 
 }  // namespace
 
 void serve_stream(ServeSession& session, int in_fd, int out_fd) {
   std::array<char, 1 << 16> chunk{};
-  std::string line;
-  std::size_t skipped = 0;  // > 0 while skipping an oversized line: its bytes so far
+  LineSplitter splitter;
   const auto reply = [&](const std::string& text) { write_all(out_fd, text + '\n'); };
   while (!session.finished()) {
     const ssize_t got = ::read(in_fd, chunk.data(), chunk.size());
@@ -58,74 +225,38 @@ void serve_stream(ServeSession& session, int in_fd, int out_fd) {
       throw Error("input", fmt::format("input: cannot be read ({})", std::strerror(errno)));
     }
     if (got == 0) break;  // end of input; an unterminated last line is not a request
-    std::string_view data(chunk.data(), static_cast<std::size_t>(got));
-    while (!data.empty() && !session.finished()) {
-      const std::size_t newline = data.find('\n');
-      const std::string_view piece = data.substr(0, newline);
-      if (skipped > 0 || line.size() + piece.size() > ServeSession::max_line_bytes) {
-        skipped += (skipped == 0 ? line.size() : 0) + piece.size();
-        line.clear();
-      } else {
-        line.append(piece);
-      }
-      if (newline == std::string_view::npos) break;
-      data.remove_prefix(newline + 1);
-      if (skipped > 0) {
-        reply(ServeSession::oversized_reply(skipped));
-        skipped = 0;
-        continue;
-      }
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (!line.empty()) reply(session.handle(line));
-      line.clear();
-    }
+    splitter.feed(
+        std::string_view(chunk.data(), static_cast<std::size_t>(got)),
+        [&](std::string_view line) { reply(session.handle(line)); },
+        [&](std::size_t bytes) { reply(ServeSession::oversized_reply(bytes)); },
+        [&] { return !session.finished(); });
   }
 }
 
 std::optional<std::string> ListenOptions::validate() const {
-  in_addr address{};
-  if (::inet_pton(AF_INET, host.c_str(), &address) != 1) {
-    return fmt::format("host: is \"{}\"; rule: an IPv4 address such as 127.0.0.1", host);
-  }
+  error_code error;
+  static_cast<void>(asio::ip::make_address_v4(host, error));
+  if (error) return fmt::format("host: is \"{}\"; rule: an IPv4 address such as 127.0.0.1", host);
   if (port < 0 || port > 65535) return fmt::format("port: is {}; rule: 0 … 65535", port);
+  if (max_connections < 1) {
+    return fmt::format("max_connections: is {}; rule: at least 1", max_connections);
+  }
+  if (idle_timeout <= std::chrono::milliseconds::zero()) {
+    return fmt::format("idle_timeout: is {} ms; rule: more than 0", idle_timeout.count());
+  }
+  if (max_reply_backlog < ServeSession::max_line_bytes) {
+    return fmt::format("max_reply_backlog: is {} bytes; rule: at least {} (a reply's size)",
+                       max_reply_backlog, ServeSession::max_line_bytes);
+  }
   return std::nullopt;
 }
 
 void serve_tcp(ServeSession& session, const ListenOptions& options,
                const std::function<void(int port)>& on_listening) {
   require_valid("listen", options);
-  const Descriptor server(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
-  if (server.get() < 0) {
-    throw Error("listen", fmt::format("listen: no socket ({})", std::strerror(errno)));
-  }
-  const int yes = 1;
-  ::setsockopt(server.get(), SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(options.port));
-  ::inet_pton(AF_INET, options.host.c_str(), &address.sin_addr);
-  if (::bind(server.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
-      ::listen(server.get(), 16) != 0) {
-    throw Error("listen", fmt::format("listen: cannot listen on {}:{} ({})", options.host,
-                                      options.port, std::strerror(errno)));
-  }
-  socklen_t length = sizeof address;
-  ::getsockname(server.get(), reinterpret_cast<sockaddr*>(&address), &length);
-  on_listening(ntohs(address.sin_port));
-  while (!session.finished()) {
-    const Descriptor client(::accept4(server.get(), nullptr, nullptr, SOCK_CLOEXEC));
-    if (client.get() < 0) {
-      if (errno == EINTR || errno == ECONNABORTED) continue;
-      throw Error("listen", fmt::format("listen: accept failed ({})", std::strerror(errno)));
-    }
-    try {
-      serve_stream(session, client.get(), client.get());
-    } catch (const HistoryStoreError&) {
-      throw;
-    } catch (const Error&) {
-      // A client that vanished mid-reply ends its connection, not the server.
-    }
-  }
+  TcpServer server(session, options);
+  on_listening(server.port());
+  server.run();
 }
 
 }  // namespace twincal

@@ -3,9 +3,12 @@
 /// The transports of `twincal serve`: a ServeSession over a byte stream (stdin/stdout) or over
 /// TCP connections, one JSON request per line in, one reply per line out. A line longer than
 /// ServeSession::max_line_bytes is skipped up to its newline without being held in memory and
-/// answered with an error; the server keeps serving.
+/// answered with an error; the server keeps serving (line_splitter.hpp).
 
+#include <chrono>
+#include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "twincal/serve/serve_session.hpp"
@@ -20,14 +23,24 @@ void serve_stream(ServeSession& session, int in_fd, int out_fd);
 struct ListenOptions {
   std::string host = "127.0.0.1";  ///< an IPv4 address; loopback unless asked otherwise
   int port = 0;                    ///< 0: any free port (reported to on_listening)
+  /// Connections open at once; one more is answered with an error line and closed.
+  int max_connections = 64;
+  /// A connection that sends nothing for this long is closed (its pending request, if any, stays
+  /// pending in the session: another connection may observe it).
+  std::chrono::milliseconds idle_timeout{std::chrono::minutes(10)};
+  /// Replies waiting for a client that does not read them, in bytes, before its connection is
+  /// closed (at least ServeSession::max_line_bytes).
+  std::size_t max_reply_backlog = std::size_t{8} << 20;
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 
-/// Listens on `options` and serves one connection at a time (serve_stream on it) until a
-/// `shutdown` request; `on_listening(port)` is called once the socket accepts connections.
-/// @throws InvalidArgumentError for an invalid host or port; Error when the socket cannot be
-///         bound; HistoryStoreError.
+/// Listens on `options` and serves every connection from one event loop (Boost.Asio), applying
+/// requests to the session in the order their lines arrive, until a `shutdown` request's reply
+/// is written; `on_listening(port)` is called once the socket accepts connections. A client that
+/// is silent, slow, half-closed or never reads its replies costs only its own connection.
+/// @throws InvalidArgumentError for invalid options; Error when the socket cannot be bound;
+///         HistoryStoreError.
 void serve_tcp(ServeSession& session, const ListenOptions& options,
                const std::function<void(int port)>& on_listening);
 

@@ -1,0 +1,225 @@
+#include "twincal/serve/line_server.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <future>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <thread>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "serve_testing.hpp"
+#include "twincal/core/error.hpp"
+
+namespace twincal {
+namespace {
+
+using nlohmann::json;
+using testing::analytic_options;
+using ::testing::HasSubstr;
+using testing::TemporaryDatabase;
+
+// A blocking TCP client of the loopback server, with a deadline on every read.
+class Client {
+ public:
+  explicit Client(int port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    ::inet_pton(AF_INET, "127.0.0.1", &address.sin_addr);
+    connected_ = ::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  }
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
+  ~Client() { ::close(fd_); }
+
+  [[nodiscard]] bool connected() const { return connected_; }
+  // Whether all of `text` went out (a connection the server closed takes no more).
+  bool send(const std::string& text) const {
+    std::string_view rest = text;
+    while (!rest.empty()) {
+      const ssize_t sent = ::send(fd_, rest.data(), rest.size(), MSG_NOSIGNAL);
+      if (sent <= 0) return false;
+      rest.remove_prefix(static_cast<std::size_t>(sent));
+    }
+    return true;
+  }
+  // The next line, or nothing when the server closed the connection or `wait` passed.
+  std::optional<std::string> line(std::chrono::milliseconds wait = std::chrono::seconds(5)) {
+    const auto deadline = std::chrono::steady_clock::now() + wait;
+    while (true) {
+      if (const std::size_t newline = buffer_.find('\n'); newline != std::string::npos) {
+        std::string line = buffer_.substr(0, newline);
+        buffer_.erase(0, newline + 1);
+        return line;
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      pollfd ready{fd_, POLLIN, 0};
+      if (left.count() <= 0 || ::poll(&ready, 1, static_cast<int>(left.count())) <= 0) {
+        return std::nullopt;
+      }
+      char chunk[4096];
+      const ssize_t got = ::recv(fd_, chunk, sizeof chunk, 0);
+      if (got <= 0) return std::nullopt;
+      buffer_.append(chunk, static_cast<std::size_t>(got));
+    }
+  }
+  // Whether the server closed the connection within `wait` (reading and dropping what came).
+  bool closed_by_server(std::chrono::milliseconds wait) {
+    const auto deadline = std::chrono::steady_clock::now() + wait;
+    while (std::chrono::steady_clock::now() < deadline) {
+      pollfd ready{fd_, POLLIN, 0};
+      if (::poll(&ready, 1, 50) <= 0) continue;
+      char chunk[65536];
+      if (::recv(fd_, chunk, sizeof chunk, 0) <= 0) return true;
+    }
+    return false;
+  }
+
+ private:
+  int fd_;
+  bool connected_ = false;
+  std::string buffer_;
+};
+
+// serve_tcp on a thread of its own; the port once it listens.
+class Server {
+ public:
+  Server(ServeSession& session, ListenOptions options) {
+    std::promise<int> listening;
+    std::future<int> port = listening.get_future();
+    thread_ = std::thread([&session, options, &listening, this] {
+      try {
+        serve_tcp(session, options, [&](int p) { listening.set_value(p); });
+      } catch (...) {
+        failure_ = std::current_exception();
+      }
+    });
+    port_ = port.get();
+  }
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+  ~Server() {
+    if (thread_.joinable()) {
+      Client stopper(port_);
+      stopper.send("{\"op\": \"shutdown\"}\n");
+      static_cast<void>(stopper.line());
+      thread_.join();
+    }
+  }
+  [[nodiscard]] int port() const { return port_; }
+  void join() {
+    thread_.join();
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
+ private:
+  std::thread thread_;
+  int port_ = 0;
+  std::exception_ptr failure_;
+};
+
+bool ok(const std::optional<std::string>& line) {
+  return line && json::parse(*line).value("ok", false);
+}
+
+// The first defect of the hand-written server: a client that connects and says nothing kept
+// every other client waiting for as long as it stayed.
+TEST(ServeTcp, AnIdleClientDoesNotKeepAnotherWaiting) {
+  const TemporaryDatabase database;
+  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+  Server server(session, ListenOptions{});
+  const Client idle(server.port());
+  ASSERT_TRUE(idle.connected());
+  Client cell(server.port());
+  cell.send("{\"op\": \"propose\", \"assembly\": 3}\n");
+  const std::optional<std::string> proposal = cell.line(std::chrono::seconds(5));
+  ASSERT_TRUE(ok(proposal)) << proposal.value_or("no reply");
+  cell.send("{\"op\": \"shutdown\"}\n");
+  EXPECT_TRUE(ok(cell.line()));
+  server.join();
+}
+
+// A client that sends requests and never reads the replies fills its own backlog and is
+// dropped; the cell is served throughout.
+TEST(ServeTcp, AClientThatNeverReadsIsDroppedAlone) {
+  const TemporaryDatabase database;
+  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+  ListenOptions options;
+  options.max_reply_backlog = ServeSession::max_line_bytes;
+  Server server(session, options);
+  Client deaf(server.port());
+  std::string requests;
+  for (int i = 0; i < 60000; ++i) requests += "{\"op\": \"state\"}\n";
+  static_cast<void>(deaf.send(requests));  // cut off part way: the server closes it
+  Client cell(server.port());
+  cell.send("{\"op\": \"state\"}\n");
+  EXPECT_TRUE(ok(cell.line(std::chrono::seconds(10))));
+  EXPECT_TRUE(deaf.closed_by_server(std::chrono::seconds(10)));
+  cell.send("{\"op\": \"state\"}\n");
+  EXPECT_TRUE(ok(cell.line()));
+}
+
+TEST(ServeTcp, ClosesAConnectionThatStaysSilentPastTheTimeout) {
+  const TemporaryDatabase database;
+  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+  ListenOptions options;
+  options.idle_timeout = std::chrono::milliseconds(200);
+  Server server(session, options);
+  Client silent(server.port());
+  EXPECT_TRUE(silent.closed_by_server(std::chrono::seconds(5)));
+  Client talking(server.port());
+  talking.send("{\"op\": \"state\"}\n");
+  EXPECT_TRUE(ok(talking.line()));
+}
+
+TEST(ServeTcp, RefusesAConnectionBeyondTheCapWithAReply) {
+  const TemporaryDatabase database;
+  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+  ListenOptions options;
+  options.max_connections = 2;
+  Server server(session, options);
+  Client first(server.port());
+  Client second(server.port());
+  second.send("{\"op\": \"state\"}\n");
+  ASSERT_TRUE(ok(second.line()));  // both are admitted by now
+  Client third(server.port());
+  const std::optional<std::string> refusal = third.line();
+  ASSERT_TRUE(refusal.has_value());
+  const json reply = json::parse(*refusal);
+  EXPECT_FALSE(reply["ok"].get<bool>());
+  EXPECT_EQ(reply["error"]["field"], "connection");
+  EXPECT_THAT(reply["error"]["message"].get<std::string>(),
+              HasSubstr("connection: the server has 2 open; rule: at most 2"));
+  EXPECT_TRUE(third.closed_by_server(std::chrono::seconds(5)));
+  first.send("{\"op\": \"state\"}\n");
+  EXPECT_TRUE(ok(first.line()));
+  first.send("{\"op\": \"shutdown\"}\n");  // the destructor's own client would be refused
+  EXPECT_TRUE(ok(first.line()));
+  server.join();
+}
+
+TEST(ServeTcp, OptionsNameTheRuleTheyBreak) {
+  EXPECT_EQ(ListenOptions{.host = "localhost"}.validate(),
+            "host: is \"localhost\"; rule: an IPv4 address such as 127.0.0.1");
+  EXPECT_EQ(ListenOptions{.max_connections = 0}.validate(),
+            "max_connections: is 0; rule: at least 1");
+  ListenOptions small;
+  small.max_reply_backlog = 10;
+  EXPECT_EQ(small.validate(),
+            "max_reply_backlog: is 10 bytes; rule: at least 1048576 (a reply's "
+            "size)");
+}
+
+}  // namespace
+}  // namespace twincal
