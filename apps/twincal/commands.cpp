@@ -5,6 +5,7 @@
 #include <array>
 #include <csignal>
 
+#include <cctype>
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
@@ -606,6 +607,24 @@ server may keep writing to it).
   return 0;
 }
 
+namespace {
+
+// The first line of a token file, without trailing whitespace.
+std::string read_token(const std::string& path) {
+  std::ifstream in(path);
+  std::string token;
+  if (!in || !std::getline(in, token)) {
+    throw InvalidArgumentError("--token-file",
+                               fmt::format("--token-file: {} cannot be read", path));
+  }
+  while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back())) != 0) {
+    token.pop_back();
+  }
+  return token;
+}
+
+}  // namespace
+
 int serve_command(std::span<const std::string> args) {
   static const std::string help = fmt::format(
       R"(usage: twincal serve --db FILE [options]
@@ -620,9 +639,11 @@ proposal and observation is in the database before its reply is sent; after a cr
 
   --db FILE              the session's SQLite history (created; with --resume, read)
   --resume               continue the session of --db (its settings come from the database)
-  --listen [HOST:]PORT   serve TCP connections, one at a time, instead of stdin/stdout
-                         (HOST defaults to 127.0.0.1; PORT 0 picks a free port, printed
-                         on stderr)
+  --listen [HOST:]PORT   serve TCP connections instead of stdin/stdout (HOST defaults to
+                         127.0.0.1; PORT 0 picks a free port, printed on stderr)
+  --token-file FILE      the shared secret (its first line, at least 16 characters) a
+                         connection must send first: {{"op": "authenticate", "token": ...}};
+                         required to listen beyond loopback
   --durability MODE      full (default: each record survives a power cut) | normal
                          (survives a killed process; no fsync per record)
   --case NAME            body | door | analytic | external (default body)
@@ -646,7 +667,14 @@ proposal and observation is in the database before its reply is sent; after a cr
     }
   }
   std::optional<ListenOptions> listen;
-  if (const auto v = arguments.text("listen")) {
+  const std::optional<std::string> token_file = arguments.text("token-file");
+  const std::optional<std::string> listen_text = arguments.text("listen");
+  if (token_file && !listen_text) {
+    throw InvalidArgumentError("--token-file",
+                               "--token-file: is given without --listen; rule: a token guards a "
+                               "TCP listener");
+  }
+  if (const auto& v = listen_text) {
     ListenOptions options;
     const std::size_t colon = v->rfind(':');
     if (colon != std::string::npos) options.host = v->substr(0, colon);
@@ -656,6 +684,7 @@ proposal and observation is in the database before its reply is sent; after a cr
       throw InvalidArgumentError(
           "--listen", fmt::format("--listen: is \"{}\"; rule: [HOST:]PORT, PORT an integer", *v));
     }
+    if (token_file) options.token = read_token(*token_file);
     require_valid("--listen", options);
     listen = options;
   }

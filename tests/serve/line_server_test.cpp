@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -209,11 +210,59 @@ TEST(ServeTcp, RefusesAConnectionBeyondTheCapWithAReply) {
   server.join();
 }
 
+// Only the cell drives it: with a token, a connection's first request must authenticate it;
+// anything else gets one error reply and the connection is closed, and no request reaches the
+// controller.
+TEST(ServeTcp, TakesRequestsOnlyAfterTheToken) {
+  const TemporaryDatabase database;
+  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+  ListenOptions options;
+  options.token = "correct horse battery staple";
+  Server server(session, options);
+  const std::vector<std::string> refused = {
+      R"({"op": "propose", "assembly": 3})",
+      R"({"op": "authenticate", "token": "correct horse battery stapl"})",
+      R"({"op": "authenticate", "token": "correct horse battery staple!"})",
+      R"({"op": "authenticate"})",
+      R"({"op": "authenticate", "token": 12})",
+      "not json"};
+  for (const std::string& first : refused) {
+    Client intruder(server.port());
+    intruder.send(first + "\n{\"op\": \"shutdown\"}\n");
+    const std::optional<std::string> reply = intruder.line();
+    ASSERT_TRUE(reply.has_value()) << first;
+    const json error = json::parse(*reply);
+    EXPECT_FALSE(error["ok"].get<bool>()) << first;
+    EXPECT_EQ(error["error"]["field"], "token") << first;
+    EXPECT_TRUE(intruder.closed_by_server(std::chrono::seconds(5))) << first;
+  }
+  EXPECT_EQ(session.observed(), 0);
+  EXPECT_TRUE(session.state()["pending"].is_null());
+  Client cell(server.port());
+  cell.send(R"({"op": "authenticate", "token": "correct horse battery staple"})"
+            "\n");
+  EXPECT_TRUE(ok(cell.line()));
+  cell.send("{\"op\": \"propose\", \"assembly\": 3}\n");
+  EXPECT_TRUE(ok(cell.line()));
+  cell.send("{\"op\": \"shutdown\"}\n");
+  EXPECT_TRUE(ok(cell.line()));
+  server.join();
+}
+
 TEST(ServeTcp, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(ListenOptions{.host = "localhost"}.validate(),
             "host: is \"localhost\"; rule: an IPv4 address such as 127.0.0.1");
   EXPECT_EQ(ListenOptions{.max_connections = 0}.validate(),
             "max_connections: is 0; rule: at least 1");
+  EXPECT_EQ(ListenOptions{.host = "0.0.0.0"}.validate(),
+            "host: is 0.0.0.0; rule: listening beyond loopback (127.0.0.0/8) needs a token "
+            "(--token-file): a cell controller takes orders only from the cell");
+  ListenOptions anywhere;
+  anywhere.host = "0.0.0.0";
+  anywhere.token = "short";
+  EXPECT_EQ(anywhere.validate(), "token: has 5 characters; rule: at least 16");
+  anywhere.token = "a secret of 16 c";
+  EXPECT_EQ(anywhere.validate(), std::nullopt);
   ListenOptions small;
   small.max_reply_backlog = 10;
   EXPECT_EQ(small.validate(),

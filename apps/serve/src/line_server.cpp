@@ -29,6 +29,7 @@
 #endif
 #include <nlohmann/json.hpp>
 
+#include "twincal/core/json_nesting.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/serve/line_splitter.hpp"
 
@@ -48,6 +49,17 @@ void write_all(int fd, std::string_view text) {
     }
     text.remove_prefix(static_cast<std::size_t>(written));
   }
+}
+
+// Whether `given` equals `expected`, in a time that depends only on their lengths.
+bool same_secret(std::string_view given, std::string_view expected) noexcept {
+  unsigned difference = given.size() == expected.size() ? 0U : 1U;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const char g = i < given.size() ? given[i] : '\0';
+    difference |= static_cast<unsigned>(static_cast<unsigned char>(g) ^
+                                        static_cast<unsigned char>(expected[i]));
+  }
+  return difference == 0U;
 }
 
 // One event loop for every connection: requests reach the one session in the order their lines
@@ -130,10 +142,47 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
     ServeSession& session = server_.session_;
     splitter_.feed(
         std::string_view(chunk_.data(), bytes),
-        [&](std::string_view line) { queue(session.handle(line)); },
+        [&](std::string_view line) {
+          if (authenticated_) {
+            queue(session.handle(line));
+          } else {
+            authenticate(line);
+          }
+        },
         [&](std::size_t oversized) { queue(ServeSession::oversized_reply(oversized)); },
-        [&] { return !closed_ && !session.finished(); });
-    if (!closed_ && !session.finished()) read();
+        [&] { return !closed_ && reading_ && !session.finished(); });
+    if (!closed_ && reading_ && !session.finished()) read();
+  }
+
+  // The first line of a connection to a server with a token: {"op": "authenticate", "token"}.
+  void authenticate(std::string_view line) {
+    const std::string& token = *server_.options_.token;
+    std::string given;
+    if (json_nesting_depth(line) <= max_json_nesting) {
+      const nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
+      if (request.is_object() && request.contains("op") && request["op"] == "authenticate" &&
+          request.contains("token") && request["token"].is_string() && request.size() == 2) {
+        given = request["token"].get<std::string>();
+      }
+    }
+    if (!given.empty() && same_secret(given, token)) {
+      authenticated_ = true;
+      queue(nlohmann::json{{"ok", true}, {"op", "authenticate"}}.dump());
+      return;
+    }
+    error_code ignored;
+    const tcp::endpoint peer = socket_.remote_endpoint(ignored);
+    fmt::print(stderr, "twincal serve: refused a connection from {}:{}: no valid token\n",
+               peer.address().to_string(), peer.port());
+    queue(nlohmann::json{{"ok", false},
+                         {"op", "authenticate"},
+                         {"error",
+                          {{"field", "token"},
+                           {"message",
+                            "token: is missing or wrong; rule: a connection's first request is "
+                            "{\"op\": \"authenticate\", \"token\": \"<the server's token>\"}"}}}}
+              .dump());
+    reading_ = false;  // the reply goes out, then the connection closes
   }
 
   // A client that lets more than max_reply_backlog bytes of replies pile up is not reading
@@ -201,6 +250,7 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
   std::size_t backlog_ = 0;
   bool reading_ = true;
   bool closed_ = false;
+  bool authenticated_ = !server_.options_.token.has_value();
 };
 
 void TcpServer::admit(tcp::socket socket) {
@@ -244,7 +294,7 @@ void serve_stream(ServeSession& session, int in_fd, int out_fd) {
 
 std::optional<std::string> ListenOptions::validate() const {
   error_code error;
-  static_cast<void>(asio::ip::make_address_v4(host, error));
+  const asio::ip::address_v4 address = asio::ip::make_address_v4(host, error);
   if (error) return fmt::format("host: is \"{}\"; rule: an IPv4 address such as 127.0.0.1", host);
   if (port < 0 || port > 65535) return fmt::format("port: is {}; rule: 0 … 65535", port);
   if (max_connections < 1) {
@@ -252,6 +302,15 @@ std::optional<std::string> ListenOptions::validate() const {
   }
   if (idle_timeout <= std::chrono::milliseconds::zero()) {
     return fmt::format("idle_timeout: is {} ms; rule: more than 0", idle_timeout.count());
+  }
+  if (token && token->size() < 16) {
+    return fmt::format("token: has {} characters; rule: at least 16", token->size());
+  }
+  if (!address.is_loopback() && !token) {
+    return fmt::format(
+        "host: is {}; rule: listening beyond loopback (127.0.0.0/8) needs a token "
+        "(--token-file): a cell controller takes orders only from the cell",
+        host);
   }
   if (max_reply_backlog < ServeSession::max_line_bytes) {
     return fmt::format("max_reply_backlog: is {} bytes; rule: at least {} (a reply's size)",

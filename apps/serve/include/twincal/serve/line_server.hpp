@@ -31,6 +31,11 @@ struct ListenOptions {
   /// Replies waiting for a client that does not read them, in bytes, before its connection is
   /// closed (at least ServeSession::max_line_bytes).
   std::size_t max_reply_backlog = std::size_t{8} << 20;
+  /// The shared secret a connection must send first, as {"op": "authenticate", "token": …}
+  /// (compared in constant time; a wrong or missing one gets one error reply, the connection is
+  /// closed and the attempt logged on stderr). Required unless `host` is a loopback address: a
+  /// cell controller takes orders only from the cell. At least 16 characters.
+  std::optional<std::string> token;
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };
@@ -38,7 +43,8 @@ struct ListenOptions {
 /// Listens on `options` and serves every connection from one event loop (Boost.Asio), applying
 /// requests to the session in the order their lines arrive, until a `shutdown` request's reply
 /// is written; `on_listening(port)` is called once the socket accepts connections. A client that
-/// is silent, slow, half-closed or never reads its replies costs only its own connection.
+/// is silent, slow, half-closed or never reads its replies costs only its own connection. With a
+/// token, a connection's first request must authenticate it (ListenOptions::token).
 /// @throws InvalidArgumentError for invalid options; Error when the socket cannot be bound;
 ///         HistoryStoreError.
 void serve_tcp(ServeSession& session, const ListenOptions& options,
