@@ -15,6 +15,7 @@ misbehave on purpose with A.mode:
   "wrong_id"     reply with the id of another request
   "deep"         reply with 100 000 nested arrays
   "bad_utf8"     reply with bytes that are not UTF-8
+  "flood"        write 4 MiB without a newline, then sleep
   "crash_once", "hang_once"
                  crash or hang if the file A.marker does not exist yet (creating it, so that
                  exactly one process of a pool misbehaves, once), else reply normally
@@ -51,6 +52,11 @@ def main():
             reply = "this is not json"
         elif mode == "deep":
             reply = "[" * 100000 + "]" * 100000
+        elif mode == "flood":
+            sys.stdout.write("x" * (4 << 20))
+            sys.stdout.flush()
+            time.sleep(60)
+            continue
         elif mode == "bad_utf8":
             sys.stdout.buffer.write(b'{"id": %d, "qualities": ["\xff\xfe"]}\n' % reply_id)
             sys.stdout.flush()

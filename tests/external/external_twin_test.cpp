@@ -147,6 +147,24 @@ TEST(ExternalTwin, NamesADeepOrNonUtf8ReplyAndRestartsTheChild) {
   EXPECT_EQ(twin.quality(kAssembly, Eigen::Vector2d(0.1, -0.2)), 0.5);
 }
 
+// A child that floods its output without a newline is stopped at max_reply_bytes (it once grew
+// twincal to 261 MB until the timeout), killed and restarted.
+TEST(ExternalTwin, StopsAFloodAtTheReplyLimitAndRestartsTheChild) {
+  ExternalTwinOptions options = script_options();
+  options.max_reply_bytes = std::size_t{1} << 20;
+  const ExternalTwin twin(options);
+  const pid_t first = pid_of(twin);
+  VectorX out(2);
+  const Stopwatch stopwatch;
+  EXPECT_THAT([&] { twin.quality_batch(misbehaving("flood"), MatrixX::Zero(2, 2), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(
+                  HasSubstr("malformed reply: the reply exceeds 1048576 bytes without a newline "
+                            "(max_reply_bytes): \"xxxx")));
+  EXPECT_LT(stopwatch.seconds(), 5.0);  // not the 10 s timeout: the flood is seen as it comes
+  EXPECT_NE(pid_of(twin), first);
+  EXPECT_EQ(twin.quality(kAssembly, Eigen::Vector2d(0.1, -0.2)), 0.5);
+}
+
 TEST(ExternalTwin, KillsAndRestartsAChildThatTimesOut) {
   ExternalTwinOptions options = script_options();
   options.timeout = std::chrono::milliseconds{200};

@@ -130,16 +130,21 @@ class Server {
   std::exception_ptr failure_;
 };
 
+// Every test serves a fresh session of the analytic twin with the active controller.
+class ServeTcp : public ::testing::Test {
+ protected:
+  TemporaryDatabase database_;
+  ServeSession session_ = ServeSession::start(analytic_options("active"), database_.get());
+};
+
 bool ok(const std::optional<std::string>& line) {
   return line && json::parse(*line).value("ok", false);
 }
 
 // The first defect of the hand-written server: a client that connects and says nothing kept
 // every other client waiting for as long as it stayed.
-TEST(ServeTcp, AnIdleClientDoesNotKeepAnotherWaiting) {
-  const TemporaryDatabase database;
-  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
-  Server server(session, ListenOptions{});
+TEST_F(ServeTcp, AnIdleClientDoesNotKeepAnotherWaiting) {
+  Server server(session_, ListenOptions{});
   const Client idle(server.port());
   ASSERT_TRUE(idle.connected());
   Client cell(server.port());
@@ -153,12 +158,10 @@ TEST(ServeTcp, AnIdleClientDoesNotKeepAnotherWaiting) {
 
 // A client that sends requests and never reads the replies fills its own backlog and is
 // dropped; the cell is served throughout.
-TEST(ServeTcp, AClientThatNeverReadsIsDroppedAlone) {
-  const TemporaryDatabase database;
-  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+TEST_F(ServeTcp, AClientThatNeverReadsIsDroppedAlone) {
   ListenOptions options;
   options.max_reply_backlog = ServeSession::max_line_bytes;
-  Server server(session, options);
+  Server server(session_, options);
   Client deaf(server.port());
   std::string requests;
   for (int i = 0; i < 60000; ++i) requests += "{\"op\": \"state\"}\n";
@@ -171,12 +174,10 @@ TEST(ServeTcp, AClientThatNeverReadsIsDroppedAlone) {
   EXPECT_TRUE(ok(cell.line()));
 }
 
-TEST(ServeTcp, ClosesAConnectionThatStaysSilentPastTheTimeout) {
-  const TemporaryDatabase database;
-  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+TEST_F(ServeTcp, ClosesAConnectionThatStaysSilentPastTheTimeout) {
   ListenOptions options;
   options.idle_timeout = std::chrono::milliseconds(200);
-  Server server(session, options);
+  Server server(session_, options);
   Client silent(server.port());
   EXPECT_TRUE(silent.closed_by_server(std::chrono::seconds(5)));
   Client talking(server.port());
@@ -184,12 +185,10 @@ TEST(ServeTcp, ClosesAConnectionThatStaysSilentPastTheTimeout) {
   EXPECT_TRUE(ok(talking.line()));
 }
 
-TEST(ServeTcp, RefusesAConnectionBeyondTheCapWithAReply) {
-  const TemporaryDatabase database;
-  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+TEST_F(ServeTcp, RefusesAConnectionBeyondTheCapWithAReply) {
   ListenOptions options;
   options.max_connections = 2;
-  Server server(session, options);
+  Server server(session_, options);
   Client first(server.port());
   Client second(server.port());
   second.send("{\"op\": \"state\"}\n");
@@ -213,12 +212,10 @@ TEST(ServeTcp, RefusesAConnectionBeyondTheCapWithAReply) {
 // Only the cell drives it: with a token, a connection's first request must authenticate it;
 // anything else gets one error reply and the connection is closed, and no request reaches the
 // controller.
-TEST(ServeTcp, TakesRequestsOnlyAfterTheToken) {
-  const TemporaryDatabase database;
-  ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+TEST_F(ServeTcp, TakesRequestsOnlyAfterTheToken) {
   ListenOptions options;
   options.token = "correct horse battery staple";
-  Server server(session, options);
+  Server server(session_, options);
   const std::vector<std::string> refused = {
       R"({"op": "propose", "assembly": 3})",
       R"({"op": "authenticate", "token": "correct horse battery stapl"})",
@@ -236,8 +233,8 @@ TEST(ServeTcp, TakesRequestsOnlyAfterTheToken) {
     EXPECT_EQ(error["error"]["field"], "token") << first;
     EXPECT_TRUE(intruder.closed_by_server(std::chrono::seconds(5))) << first;
   }
-  EXPECT_EQ(session.observed(), 0);
-  EXPECT_TRUE(session.state()["pending"].is_null());
+  EXPECT_EQ(session_.observed(), 0);
+  EXPECT_TRUE(session_.state()["pending"].is_null());
   Client cell(server.port());
   cell.send(R"({"op": "authenticate", "token": "correct horse battery staple"})"
             "\n");
@@ -249,7 +246,7 @@ TEST(ServeTcp, TakesRequestsOnlyAfterTheToken) {
   server.join();
 }
 
-TEST(ServeTcp, OptionsNameTheRuleTheyBreak) {
+TEST(ListenOptions, NameTheRuleTheyBreak) {
   EXPECT_EQ(ListenOptions{.host = "localhost"}.validate(),
             "host: is \"localhost\"; rule: an IPv4 address such as 127.0.0.1");
   EXPECT_EQ(ListenOptions{.max_connections = 0}.validate(),

@@ -69,6 +69,9 @@ struct ExternalTwinOptions {
   std::chrono::milliseconds timeout{10'000};  ///< longest wait for one reply
   std::chrono::milliseconds startup_grace{10'000};  ///< extra wait for a freshly started child
   std::chrono::milliseconds shutdown_grace{200};    ///< wait for a clean exit before SIGKILL
+  /// The longest reply line; a child that writes more without a newline (a flood) is a
+  /// malformed reply, killed and restarted, and twincal's memory stays bounded.
+  std::size_t max_reply_bytes = std::size_t{64} << 20;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     if (command.empty() || command.front().empty()) {
@@ -86,6 +89,9 @@ struct ExternalTwinOptions {
     }
     if (timeout.count() <= 0)
       return fmt::format("timeout is {} ms; rule: must be > 0", timeout.count());
+    if (max_reply_bytes < 1024) {
+      return fmt::format("max_reply_bytes is {}; rule: must be >= 1024", max_reply_bytes);
+    }
     if (startup_grace.count() < 0 || shutdown_grace.count() < 0) {
       return fmt::format("startup_grace and shutdown_grace are {} and {} ms; rule: must be >= 0",
                          startup_grace.count(), shutdown_grace.count());
@@ -381,6 +387,14 @@ class ExternalTwin {
         buffer_.erase(0, newline + 1);
         return line;
       }
+      if (buffer_.size() > options_.max_reply_bytes) {
+        const std::string shown = shown_text(buffer_);
+        const std::string ended = stop(/*graceful=*/false);
+        throw fail(ExternalTwinFailure::malformed_reply,
+                   fmt::format("the reply exceeds {} bytes without a newline (max_reply_bytes): "
+                               "{}; the child {} and will be restarted",
+                               options_.max_reply_bytes, shown, ended));
+      }
       const ssize_t received = ::recv(socket_, chunk, sizeof chunk, 0);
       if (received > 0) {
         buffer_.append(chunk, static_cast<std::size_t>(received));
@@ -398,9 +412,10 @@ class ExternalTwin {
           received == 0 ? std::string("end of output") : std::string(std::strerror(errno));
       const std::string partial = buffer_;
       const std::string ended = stop(/*graceful=*/true);
-      throw fail(ExternalTwinFailure::crashed,
-                 fmt::format("{} before a complete reply{}; the child {}", reason,
-                             partial.empty() ? "" : fmt::format(" (got \"{}\")", partial), ended));
+      throw fail(
+          ExternalTwinFailure::crashed,
+          fmt::format("{} before a complete reply{}; the child {}", reason,
+                      partial.empty() ? "" : fmt::format(" (got {})", shown_text(partial)), ended));
     }
   }
 
@@ -408,7 +423,8 @@ class ExternalTwin {
   void drain() const {
     char chunk[4096];
     ssize_t received = 0;
-    while ((received = ::recv(socket_, chunk, sizeof chunk, MSG_DONTWAIT)) > 0) {
+    while (buffer_.size() <= options_.max_reply_bytes &&
+           (received = ::recv(socket_, chunk, sizeof chunk, MSG_DONTWAIT)) > 0) {
       buffer_.append(chunk, static_cast<std::size_t>(received));
     }
   }
