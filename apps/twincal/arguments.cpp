@@ -35,8 +35,15 @@ Arguments::Arguments(std::span<const std::string> args, std::set<std::string, st
                                              arg));
     }
     std::string name = arg.substr(2);
-    if (const std::size_t equals = name.find('='); equals != std::string::npos) {
-      values_[name.substr(0, equals)] = name.substr(equals + 1);
+    const std::size_t equals = name.find('=');
+    const std::string key = name.substr(0, equals);
+    if (values_.contains(key) || given_flags_.contains(key)) {
+      // `--runs 2 --runs 3` is a mistake, not an override: refuse it rather than pick one.
+      throw InvalidArgumentError(
+          key, fmt::format("--{}: is given more than once; rule: each option at most once", key));
+    }
+    if (equals != std::string::npos) {
+      values_[key] = name.substr(equals + 1);
     } else if (flags_.contains(name)) {
       given_flags_.insert(name);
     } else if (i + 1 < args.size()) {

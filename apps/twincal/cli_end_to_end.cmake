@@ -113,8 +113,12 @@ endforeach()
 string(REPEAT "[" 200000 deep)
 file(WRITE "${WORK_DIR}/deep.json" "{\"case\": ${deep}}")
 file(WRITE "${WORK_DIR}/runs.json" "{\"runs\": 9223372036854775807}")
+file(WRITE "${WORK_DIR}/twice.json" "{\"runs\": 2, \"runs\": 3}")
+file(WRITE "${WORK_DIR}/coerced.json" "{\"runs\": 2.9}")
 foreach(pair "deep.json|nests 200001 levels of arrays and objects; rule: at most 64"
-             "runs.json|runs is 9223372036854775807; rule: must be >= 1 and <= 1000000")
+             "runs.json|runs is 9223372036854775807; rule: must be >= 1 and <= 1000000"
+             "twice.json|the key \"runs\" appears twice in one object"
+             "coerced.json|runs: is 2.9; rule: an integer")
   string(REPLACE "|" ";" pair "${pair}")
   list(GET pair 0 config)
   list(GET pair 1 expected)
@@ -125,6 +129,13 @@ foreach(pair "deep.json|nests 200001 levels of arrays and objects; rule: at most
     message(FATAL_ERROR "run --config ${config} --dry-run: status ${status}, printed:\n${err}")
   endif()
 endforeach()
+
+# A repeated option is a mistake, not an override.
+execute_process(COMMAND "${TWINCAL}" run --runs 2 --runs 3 --dry-run
+  RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_QUIET)
+if(NOT status EQUAL 1 OR NOT err MATCHES "--runs: is given more than once")
+  message(FATAL_ERROR "run --runs 2 --runs 3: status ${status}, printed:\n${err}")
+endif()
 
 # 8. The external case: the minimal twin of examples/external_twin (a Python program) gives the
 # same episodes with 1 and 3 worker processes, and --twin-command overrides the config's.

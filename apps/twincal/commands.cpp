@@ -84,8 +84,26 @@ json read_json_file(const std::string& path) {
     text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
   }
   require_json_nesting(text, path);
+  // A key given twice in one object is a mistake, not an override: refused, naming it.
+  std::vector<std::set<std::string>> keys;  // per open object
+  const json::parser_callback_t no_duplicates = [&](int, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start) {
+      keys.emplace_back();
+    } else if (event == json::parse_event_t::object_end) {
+      keys.pop_back();
+    } else if (event == json::parse_event_t::key && !keys.empty()) {
+      const std::string key = parsed.get<std::string>();
+      if (!keys.back().insert(key).second) {
+        throw InvalidArgumentError(
+            path, fmt::format("{}: the key \"{}\" appears twice in one object; rule: each key "
+                              "at most once",
+                              path, key));
+      }
+    }
+    return true;
+  };
   try {
-    return json::parse(text);
+    return json::parse(text, no_duplicates);
   } catch (const json::exception& error) {
     throw InvalidArgumentError(path, fmt::format("{}: is not valid JSON ({})", path, error.what()));
   }

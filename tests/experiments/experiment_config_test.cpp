@@ -1,6 +1,9 @@
 #include "twincal/experiments/experiment_config.hpp"
 
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -118,6 +121,34 @@ TEST(ExperimentConfig, RejectsUnknownKeysAndWrongTypesNamingThem) {
                InvalidArgumentError);
   EXPECT_THROW((void)nlohmann::json::parse(R"({"filter": "ukf"})").get<ExperimentConfig>(),
                InvalidArgumentError);
+}
+
+// Integer fields take JSON integers in range; nothing is coerced (2.9 was read as 2, −5 as a
+// seed of 2⁶⁴ − 5, 1e30 as a negative count).
+TEST(ExperimentConfig, IntegerFieldsRefuseWhatTheyWouldHaveCoerced) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"runs": 2.9})", "runs: is 2.9; rule: an integer"},
+      {R"({"runs": 1e30})", "runs: is 1e+30; rule: an integer"},
+      {R"({"analytic_dimension": 3.9})", "analytic_dimension: is 3.9; rule: an integer"},
+      {R"({"seed": -5})", "seed: is -5; rule: a non-negative integer"},
+      {R"({"seed": 7.5})", "seed: is 7.5; rule: a non-negative integer"},
+      {R"({"runs": 9223372036854775808})",
+       "runs: is 9223372036854775808; rule: an integer in [-9223372036854775808, "
+       "9223372036854775807]"},
+  };
+  for (const auto& [text, message] : cases) {
+    try {
+      static_cast<void>(nlohmann::json::parse(text).get<ExperimentConfig>());
+      ADD_FAILURE() << text << " was accepted";
+    } catch (const InvalidArgumentError& error) {
+      EXPECT_NE(std::string(error.what()).find(message), std::string::npos)
+          << text << ": " << error.what();
+    }
+  }
+  const ExperimentConfig exact =
+      nlohmann::json::parse(R"({"runs": 3, "seed": 18446744073709551615})").get<ExperimentConfig>();
+  EXPECT_EQ(exact.runs, 3);
+  EXPECT_EQ(exact.seed, 18446744073709551615ULL);
 }
 
 TEST(ExperimentConfig, ValidateNamesTheBrokenField) {

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -155,8 +158,34 @@ struct Field {
   std::function<void(const json&, ExperimentConfig&)> read;
 };
 
+// An integer field takes a JSON integer in its type's range, never a coerced one: 2.9 is not 2,
+// −5 is not 2⁶⁴ − 5, 1e30 is not a count.
+template <typename T>
+void require_integer(const json& value, std::string_view key) {
+  const std::string shown = value.dump(-1, ' ', false, json::error_handler_t::replace);
+  const auto refuse = [&](std::string_view rule) {
+    throw InvalidArgumentError(std::string(key),
+                               fmt::format("{}: is {}; rule: {}", key, shown, rule));
+  };
+  constexpr bool is_unsigned = std::is_unsigned_v<T>;
+  if (!value.is_number_integer() || (is_unsigned && !value.is_number_unsigned())) {
+    refuse(is_unsigned ? "a non-negative integer" : "an integer");
+  }
+  const bool fits =
+      value.is_number_unsigned()
+          ? value.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())
+          : value.get<std::int64_t>() >= static_cast<std::int64_t>(std::numeric_limits<T>::min());
+  if (!fits) {
+    refuse(fmt::format("an integer in [{}, {}]", std::numeric_limits<T>::min(),
+                       std::numeric_limits<T>::max()));
+  }
+}
+
 template <typename T>
 T value_as(const json& value, std::string_view key) {
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    require_integer<T>(value, key);
+  }
   try {
     return value.get<T>();
   } catch (const json::exception& error) {
