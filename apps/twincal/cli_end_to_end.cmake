@@ -130,6 +130,17 @@ foreach(pair "deep.json|nests 200001 levels of arrays and objects; rule: at most
   endif()
 endforeach()
 
+# A dry run starts no twin program: checking an untrusted config executes none of it (a program
+# that cannot exist would fail at its start).
+file(WRITE "${WORK_DIR}/never_started.json"
+  "{\"case\": \"external\", \"locators\": \"ABC\", \"external_twin\": {\"command\": "
+  "[\"${WORK_DIR}/no-such-twin\"], \"locators\": [\"p\", \"q\", \"r\", \"s\"], "
+  "\"lower_bounds\": [-1, -1, -1, -1], \"upper_bounds\": [1, 1, 1, 1]}}")
+twincal_ok(run --config "${WORK_DIR}/never_started.json" --dry-run)
+if(NOT output MATCHES "locators \\[p, q, r\\], 10 runs")
+  message(FATAL_ERROR "dry run of an external config printed:\n${output}")
+endif()
+
 # A repeated option is a mistake, not an override.
 execute_process(COMMAND "${TWINCAL}" run --runs 2 --runs 3 --dry-run
   RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_QUIET)

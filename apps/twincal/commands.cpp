@@ -197,21 +197,35 @@ RunOptions read_run_options(Arguments& arguments) {
   return options;
 }
 
-// Lists the groups and their episodes after checking each config and locator set.
+// Lists the groups and their episodes after checking each config and locator set. Runs nothing:
+// a twin that is a program is not started (its locators come from its config), so checking an
+// untrusted config executes none of it.
 int list_study(const std::vector<ExperimentGroup>& groups) {
+  std::vector<ExperimentGroup> built;  // the groups whose twins are built to resolve locators
   for (const ExperimentGroup& group : groups) {
     require_valid(fmt::format("group \"{}\"", group.config.group_name()), group.config);
+    if (group.config.twin_case != TwinCase::external) built.push_back(group);
   }
-  const std::vector<CaseTwin> twins = make_case_twins(groups);
+  const std::vector<CaseTwin> twins = make_case_twins(built);
   Index episodes = 0;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    const ExperimentConfig& config = groups[g].config;
-    const CaseTwin& twin = twins[g];
+  std::size_t next_built = 0;
+  for (const ExperimentGroup& group : groups) {
+    const ExperimentConfig& config = group.config;
+    std::vector<std::string> names;
+    if (config.twin_case == TwinCase::external) {
+      const std::vector<std::string>& all = config.external_twin->locators;
+      for (const Index i :
+           resolve_locators(all, external_significant_locators(std::ssize(all)), config.locators)) {
+        names.push_back(all[static_cast<std::size_t>(i)]);
+      }
+    } else {
+      names = twins[next_built++].locator_names();
+    }
     const Index count = config.runs * std::ssize(config.controllers);
     episodes += count;
     fmt::print("{}: locators [{}], {} runs x {} controllers = {} episodes of {} assemblies\n",
-               config.group_name(), fmt::join(twin.locator_names(), ", "), config.runs,
-               config.controllers.size(), count, config.assemblies);
+               config.group_name(), fmt::join(names, ", "), config.runs, config.controllers.size(),
+               count, config.assemblies);
   }
   fmt::print("{} groups, {} episodes\n", groups.size(), episodes);
   return 0;

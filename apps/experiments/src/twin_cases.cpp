@@ -150,7 +150,17 @@ std::optional<AnyTwin> make_plant(const ExperimentConfig& config) {
 }
 
 std::vector<Index> resolve_locators(const AnyTwin& twin, std::string_view spelling) {
-  const std::vector<Index>& significant = twin.significant_locators();
+  return resolve_locators(twin.locator_names(), twin.significant_locators(), spelling);
+}
+
+std::vector<Index> external_significant_locators(Index dimension) {
+  return first_locators(dimension);
+}
+
+std::vector<Index> resolve_locators(const std::vector<std::string>& names,
+                                    const std::vector<Index>& significant,
+                                    std::string_view spelling) {
+  const auto dimension = static_cast<Index>(names.size());
   const auto significant_at = [&](std::size_t i) {
     if (i >= significant.size()) {
       throw InvalidArgumentError(
@@ -165,11 +175,10 @@ std::vector<Index> resolve_locators(const AnyTwin& twin, std::string_view spelli
   }
   if (spelling == "ABC") return {significant_at(0), significant_at(1), significant_at(2)};
   if (spelling == "all") {
-    std::vector<Index> all(static_cast<std::size_t>(twin.control_dimension()));
+    std::vector<Index> all(static_cast<std::size_t>(dimension));
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<Index>(i);
     return all;
   }
-  const std::vector<std::string>& names = twin.locator_names();
   std::vector<Index> locators;
   std::size_t begin = 0;
   while (begin <= spelling.size()) {
@@ -182,12 +191,12 @@ std::vector<Index> resolve_locators(const AnyTwin& twin, std::string_view spelli
     } else {
       const auto [last, error] = std::from_chars(token.data(), token.data() + token.size(), index);
       if (error != std::errc{} || last != token.data() + token.size() || index < 0 ||
-          index >= twin.control_dimension()) {
+          index >= dimension) {
         throw InvalidArgumentError(
             "locators",
             fmt::format("locators: \"{}\" in \"{}\" is unknown; rule: must be A, B, C, ABC, all, "
                         "or names of [{}] or indices in [0, {}] joined by commas",
-                        token, spelling, fmt::join(names, ", "), twin.control_dimension() - 1));
+                        token, spelling, fmt::join(names, ", "), dimension - 1));
       }
     }
     locators.push_back(index);

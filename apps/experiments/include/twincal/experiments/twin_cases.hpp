@@ -31,6 +31,14 @@ namespace twincal {
 /// "ABC" (the twin's significant locators), "all", or names / 0-based indices joined by commas.
 /// @throws InvalidArgumentError naming an unknown locator or a set the twin cannot provide.
 [[nodiscard]] std::vector<Index> resolve_locators(const AnyTwin& twin, std::string_view spelling);
+/// The same from a twin's locator names and significant locators alone (a twin that is a
+/// program need not be started to resolve them).
+[[nodiscard]] std::vector<Index> resolve_locators(const std::vector<std::string>& names,
+                                                  const std::vector<Index>& significant,
+                                                  std::string_view spelling);
+/// The significant locators (A, B, C) of an external twin with these locator names: its first
+/// three.
+[[nodiscard]] std::vector<Index> external_significant_locators(Index dimension);
 
 /// make_twin restricted to resolve_locators(config.locators).
 [[nodiscard]] CaseTwin make_case_twin(const ExperimentConfig& config);
