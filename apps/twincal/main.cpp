@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "twincal/external/child_groups.hpp"
 
 namespace {
 
@@ -36,6 +37,8 @@ See docs/cli.md.
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Twins that are programs end with twincal, whatever signal ends it.
+  twincal::child_groups::end_child_groups_on_termination();
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     fmt::print("{}", usage);

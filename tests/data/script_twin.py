@@ -16,6 +16,8 @@ misbehave on purpose with A.mode:
   "deep"         reply with 100 000 nested arrays
   "bad_utf8"     reply with bytes that are not UTF-8
   "flood"        write 4 MiB without a newline, then sleep
+  "spawn"        start `sleep 60` (a program of its own, in its process group) and reply with
+                 its process id as every quality
   "crash_once", "hang_once"
                  crash or hang if the file A.marker does not exist yet (creating it, so that
                  exactly one process of a pool misbehaves, once), else reply normally
@@ -25,6 +27,7 @@ twin, for ExternalTwinPool's benchmark).
 import json
 import math
 import os
+import subprocess
 import sys
 import time
 
@@ -48,7 +51,11 @@ def main():
         if mode == "crash":
             os._exit(3)
         reply_id = request["id"] + (1 if mode == "wrong_id" else 0)
-        if mode == "garbage":
+        if mode == "spawn":  # a program of the twin's own, in its process group
+            sleeper = subprocess.Popen(["sleep", "60"], stdin=subprocess.DEVNULL,
+                                       stdout=subprocess.DEVNULL)
+            reply = json.dumps({"id": reply_id, "qualities": [sleeper.pid] * len(controls)})
+        elif mode == "garbage":
             reply = "this is not json"
         elif mode == "deep":
             reply = "[" * 100000 + "]" * 100000

@@ -55,6 +55,7 @@
 #include "twincal/core/json_nesting.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/external/child_groups.hpp"
 #include "twincal/models/twin.hpp"
 
 extern char** environ;  // NOLINT: POSIX, passed to the child unchanged
@@ -308,6 +309,7 @@ class ExternalTwin {
     }
     ::fcntl(sockets[0], F_SETFL, ::fcntl(sockets[0], F_GETFL) | O_NONBLOCK);
     pid_ = pid;
+    child_groups::add(pid);  // ended with this process if a signal ends it
     socket_ = sockets[0];
     buffer_.clear();
     answered_ = false;
@@ -335,6 +337,7 @@ class ExternalTwin {
     } else {
       ::kill(-pid_, SIGKILL);  // leftovers of the group, if any (ESRCH otherwise)
     }
+    child_groups::remove(pid_);
     pid_ = -1;
     buffer_.clear();
     if (reaped < 0) return "could not be reaped";
