@@ -7,6 +7,7 @@
 
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <string_view>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -673,6 +675,8 @@ proposal and observation is in the database before its reply is sent; after a cr
   --resume               continue the session of --db (its settings come from the database)
   --listen [HOST:]PORT   serve TCP connections instead of stdin/stdout (HOST defaults to
                          127.0.0.1; PORT 0 picks a free port, printed on stderr)
+  --max-connections N    TCP connections open at once (default 64; one more is refused)
+  --idle-timeout-ms T    close a TCP connection silent for T ms (default 600000)
   --token-file FILE      the shared secret (its first line, at least 16 characters) a
                          connection must send first: {{"op": "authenticate", "token": ...}};
                          required to listen beyond loopback
@@ -700,11 +704,16 @@ proposal and observation is in the database before its reply is sent; after a cr
   }
   std::optional<ListenOptions> listen;
   const std::optional<std::string> token_file = arguments.text("token-file");
+  const std::optional<Index> max_connections = arguments.integer("max-connections");
+  const std::optional<Index> idle_timeout = arguments.integer("idle-timeout-ms");
   const std::optional<std::string> listen_text = arguments.text("listen");
-  if (token_file && !listen_text) {
-    throw InvalidArgumentError("--token-file",
-                               "--token-file: is given without --listen; rule: a token guards a "
-                               "TCP listener");
+  for (const auto& [given, name] : {std::pair{token_file.has_value(), "--token-file"},
+                                    std::pair{max_connections.has_value(), "--max-connections"},
+                                    std::pair{idle_timeout.has_value(), "--idle-timeout-ms"}}) {
+    if (given && !listen_text) {
+      throw InvalidArgumentError(
+          name, fmt::format("{}: is given without --listen; rule: it sets the TCP listener", name));
+    }
   }
   if (const auto& v = listen_text) {
     ListenOptions options;
@@ -717,6 +726,15 @@ proposal and observation is in the database before its reply is sent; after a cr
           "--listen", fmt::format("--listen: is \"{}\"; rule: [HOST:]PORT, PORT an integer", *v));
     }
     if (token_file) options.token = read_token(*token_file);
+    if (max_connections) {
+      if (*max_connections < 1 || *max_connections > 1'000'000) {
+        throw InvalidArgumentError(
+            "--max-connections",
+            fmt::format("--max-connections: is {}; rule: 1 … 1000000", *max_connections));
+      }
+      options.max_connections = static_cast<int>(*max_connections);
+    }
+    if (idle_timeout) options.idle_timeout = std::chrono::milliseconds(*idle_timeout);
     require_valid("--listen", options);
     listen = options;
   }
