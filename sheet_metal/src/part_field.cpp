@@ -1,5 +1,6 @@
 #include "twincal/sheet_metal/part_field.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -79,6 +80,17 @@ VectorX PartField::sample(const PlateMesh& mesh, RandomStream& stream) const {
     deviations(PlateMesh::dof(node, 2)) = -wx;  // θy = −∂w/∂x
   }
   return deviations;
+}
+
+std::vector<VectorX> PartField::sample_parts(const PlateMesh& mesh, const RandomStream& root,
+                                             std::string_view side, Index count) const {
+  std::vector<VectorX> parts;
+  parts.reserve(static_cast<std::size_t>(std::max<Index>(count, 0)));
+  for (Index i = 0; i < count; ++i) {
+    RandomStream stream = root.substream(side).substream(static_cast<std::uint64_t>(i));
+    parts.push_back(sample(mesh, stream));
+  }
+  return parts;
 }
 
 }  // namespace twincal

@@ -55,6 +55,27 @@ void add_grid(std::vector<LayoutPoint>& points, const std::string& prefix, Sheet
 
 }  // namespace
 
+SheetMetalLayout SheetMetalLayout::lap_joint() {
+  constexpr SheetMetalPart upper = SheetMetalPart::upper;
+  constexpr SheetMetalPart lower = SheetMetalPart::lower;
+  SheetMetalLayout layout;
+  layout.name = "lap-joint";
+  layout.element_size = 40.0;
+  layout.lower = {0.0, 0.0, 400.0, 200.0};
+  layout.upper = {0.0, 120.0, 400.0, 200.0};
+  for (const double x : {40.0, 120.0, 200.0, 280.0, 360.0}) layout.welds.emplace_back(x, 160.0);
+  layout.locators = {{"U1", upper, 40.0, 280.0},  {"U2", upper, 360.0, 280.0},
+                     {"U3", upper, 200.0, 320.0}, {"L1", lower, 40.0, 40.0},
+                     {"L2", lower, 360.0, 40.0},  {"L3", lower, 200.0, 0.0}};
+  layout.key_points = {{"K1", upper, 0.0, 200.0},   {"K2", upper, 200.0, 200.0},
+                       {"K3", upper, 400.0, 320.0}, {"K4", upper, 200.0, 280.0},
+                       {"K5", lower, 0.0, 120.0},   {"K6", lower, 200.0, 120.0},
+                       {"K7", lower, 400.0, 0.0},   {"K8", lower, 200.0, 40.0}};
+  layout.final_support = FinalSupport::adjusted_locators;
+  layout.weld_tie = WeldTie::translation;
+  return layout;
+}
+
 SheetMetalLayout SheetMetalLayout::body() {
   SheetMetalLayout layout;
   layout.name = "body";

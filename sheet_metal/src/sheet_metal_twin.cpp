@@ -118,16 +118,8 @@ SheetMetalTwin SheetMetalTwin::generate(SheetMetalLayout layout,
   const PlateMesh upper_mesh = layout.mesh(SheetMetalPart::upper);
   const PlateMesh lower_mesh = layout.mesh(SheetMetalPart::lower);
   const RandomStream root(seed);
-  std::vector<VectorX> upper;
-  std::vector<VectorX> lower;
-  for (Index i = 0; i < options.upper_parts; ++i) {
-    RandomStream stream = root.substream("upper").substream(static_cast<std::uint64_t>(i));
-    upper.push_back(field.sample(upper_mesh, stream));
-  }
-  for (Index j = 0; j < options.lower_parts; ++j) {
-    RandomStream stream = root.substream("lower").substream(static_cast<std::uint64_t>(j));
-    lower.push_back(field.sample(lower_mesh, stream));
-  }
+  std::vector<VectorX> upper = field.sample_parts(upper_mesh, root, "upper", options.upper_parts);
+  std::vector<VectorX> lower = field.sample_parts(lower_mesh, root, "lower", options.lower_parts);
   return {std::move(layout), options, std::move(upper), std::move(lower)};
 }
 

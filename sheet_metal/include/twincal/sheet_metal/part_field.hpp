@@ -13,6 +13,8 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/random_stream.hpp"
@@ -39,6 +41,11 @@ class PartField {
 
   /// One part's nodal deviations (w, θx, θy per node of `mesh`), drawn from `stream`.
   [[nodiscard]] VectorX sample(const PlateMesh& mesh, RandomStream& stream) const;
+
+  /// `count` parts of one side of an assembly: part i from `root.substream(side).substream(i)`,
+  /// so part i is the same whatever the count (the sheet-metal twins draw theirs this way).
+  [[nodiscard]] std::vector<VectorX> sample_parts(const PlateMesh& mesh, const RandomStream& root,
+                                                  std::string_view side, Index count) const;
 
  private:
   PartFieldOptions options_;

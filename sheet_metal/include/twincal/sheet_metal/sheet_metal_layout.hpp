@@ -66,6 +66,11 @@ struct SheetMetalLayout {
   /// The 'car door' case: 19 locators, release onto a nominal frame, rotation-locking welds.
   [[nodiscard]] static SheetMetalLayout door();
 
+  /// A small lap joint for quick solves and tests ('lap-joint'): two 400 × 200 mm parts on a
+  /// 40 mm grid overlapping in an 80 mm flange (rows y = 120, 160, 200), five welds on its
+  /// middle row, three locators per part, eight key points in and away from the flange; measured
+  /// in the fixture on its adjusted locators with translation welds (the body's choices).
+  [[nodiscard]] static SheetMetalLayout lap_joint();
   /// The mesh of one part.
   /// @throws InvalidArgumentError when the outline is not a whole number of elements.
   [[nodiscard]] PlateMesh mesh(SheetMetalPart part) const;
