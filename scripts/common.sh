@@ -40,14 +40,16 @@ twincal_install_dependencies() {
     "${missing[@]}" >/dev/null
 }
 
-# twincal_build <build-dir> [--target T] [cmake -D options...]: configures once, then builds
-# incrementally — everything, or only target T and what it needs.
+# twincal_build <build-dir> [--target "T…"] [cmake -D options...]: configures once, then builds
+# incrementally — everything, or only the targets T… (blank-separated) and what they need.
 twincal_build() {
   local build_dir="$1"
   shift
   local target=()
   if [ "${1:-}" = "--target" ]; then
-    target=(--target "$2")
+    local names=()
+    read -ra names <<<"$2"
+    target=(--target "${names[@]}")
     shift 2
   fi
   local launcher=()

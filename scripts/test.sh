@@ -4,7 +4,8 @@
 #   ./scripts/test.sh --sanitizers address,undefined
 #                                           instrumented build in build-sanitizers/ (tests only)
 #   ./scripts/test.sh --gcc                 GCC 12 build in build-gcc/ of the libraries and the
-#                                           twincal program (no tests): what a user's default
+#                                           programs twincal and twincal_calculix_twin (no
+#                                           tests): what a user's default
 #                                           compiler builds stays warning-free
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -36,7 +37,7 @@ twincal_install_dependencies
 if [ "$run_tests" -eq 1 ]; then
   twincal_build "$build_dir" "${options[@]}"
 else
-  twincal_build "$build_dir" --target twincal "${options[@]}"
+  twincal_build "$build_dir" --target "twincal twincal_calculix_twin" "${options[@]}"
 fi
 [ "$run_tests" -eq 1 ] || exit 0
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
