@@ -230,10 +230,14 @@ std::string CalculixModel::deck(const CalculixParts& parts,
   std::string out;
   out.reserve(static_cast<std::size_t>(160 * deck_node_count()));
   write_model(out, parts);
-  const std::string step = options_.geometric_nonlinearity
-                               ? fmt::format("*STEP, NLGEOM, INC={}\n*STATIC\n1., 1., 1e-05, 1.\n",
-                                             options_.max_increments)
-                               : std::string("*STEP\n*STATIC\n");
+  const std::string step =
+      options_.geometric_nonlinearity
+          ? fmt::format(
+                "*STEP, NLGEOM, INC={}\n*STATIC\n1., 1., 1e-05, 1.\n"
+                "*CONTROLS, PARAMETERS=TIME INCREMENTATION\n"
+                "4, 8, 9, {}, 10, 4, , {}\n",
+                options_.max_increments, options_.max_iterations, options_.max_cutbacks)
+          : std::string("*STEP\n*STATIC\n");
   for (Index c = 0; c < controls.cols(); ++c) {
     append(out, "** column {}: clamp and weld\n{}", c, step);
     write_fixture(out, parts, controls.col(c), false);
@@ -267,16 +271,6 @@ VectorX CalculixModel::key_deviations(const CalculixParts& parts, const NodePrin
     y(i) = free_shape(parts, key.part, key.node) + 0.5 * sum;
   }
   return y;
-}
-
-VectorX CalculixModel::qualities(const CalculixParts& parts,
-                                 std::span<const NodePrint> prints) const {
-  VectorX q(static_cast<Index>(prints.size()));
-  const double scale = 1.0 / std::sqrt(static_cast<double>(key_point_count()));
-  for (std::size_t c = 0; c < prints.size(); ++c) {
-    q(static_cast<Index>(c)) = scale * key_deviations(parts, prints[c]).norm();
-  }
-  return q;
 }
 
 }  // namespace twincal

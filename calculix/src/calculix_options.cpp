@@ -33,6 +33,12 @@ std::optional<std::string> CalculixOptions::validate() const {
   if (max_increments < 1) {
     return fmt::format("max_increments: value is {}; rule: must be >= 1", max_increments);
   }
+  if (max_iterations < 1) {
+    return fmt::format("max_iterations: value is {}; rule: must be >= 1", max_iterations);
+  }
+  if (max_cutbacks < 1) {
+    return fmt::format("max_cutbacks: value is {}; rule: must be >= 1", max_cutbacks);
+  }
   if (!(locator_bound > 0.0) || !std::isfinite(locator_bound)) {
     return fmt::format("locator_bound: value is {}; rule: must be finite and > 0 (mm)",
                        locator_bound);

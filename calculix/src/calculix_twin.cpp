@@ -117,9 +117,22 @@ void CalculixTwin::quality_batch(const AssemblyId& assembly,
 CalculixBatchSummary CalculixTwin::evaluate(const CalculixParts& parts,
                                             const Eigen::Ref<const MatrixX>& controls,
                                             Eigen::Ref<VectorX> out, std::string_view label) const {
+  require_dimension("out", out.size(), controls.cols());
+  MatrixX deviations(model_->key_point_count(), controls.cols());
+  CalculixBatchSummary summary = key_deviations(parts, controls, deviations, label);
+  const double scale = 1.0 / std::sqrt(static_cast<double>(model_->key_point_count()));
+  out = scale * deviations.colwise().norm().transpose();  // NaN columns stay NaN
+  return summary;
+}
+
+CalculixBatchSummary CalculixTwin::key_deviations(const CalculixParts& parts,
+                                                  const Eigen::Ref<const MatrixX>& controls,
+                                                  Eigen::Ref<MatrixX> out,
+                                                  std::string_view label) const {
   model_->require_parts(parts);
   model_->require_controls(controls);
-  require_dimension("out", out.size(), controls.cols());
+  require_dimension("out (rows)", out.rows(), model_->key_point_count());
+  require_dimension("out (columns)", out.cols(), controls.cols());
   const CalculixOptions& options = model_->options();
   const ScratchDirectory scratch(
       options.scratch_root / fmt::format("twincal-calculix-{}-{}", ::getpid(), (*jobs_)++),
@@ -150,8 +163,9 @@ CalculixBatchSummary CalculixTwin::evaluate(const CalculixParts& parts,
                                       label, done, columns),
                           log_tail(run.log));
     }
-    out.segment(first, done) = model_->qualities(
-        parts, std::span<const NodePrint>(releases.data(), static_cast<std::size_t>(done)));
+    for (Index c = 0; c < done; ++c) {
+      out.col(first + c) = model_->key_deviations(parts, releases[static_cast<std::size_t>(c)]);
+    }
     return std::pair{done, failure ? log_tail(run.log) : std::string()};
   };
   Index next = 0;
@@ -173,7 +187,7 @@ CalculixBatchSummary CalculixTwin::evaluate(const CalculixParts& parts,
     for (Index k = 0; k < controls.rows(); ++k) {
       control += fmt::format("{}{}", k == 0 ? "" : ", ", controls(k, next));
     }
-    out(next) = std::numeric_limits<double>::quiet_NaN();
+    out.col(next).setConstant(std::numeric_limits<double>::quiet_NaN());
     summary.failed.push_back(next);
     summary.last_failure = fmt::format(
         "calculix: {}, column {} (u = [{}]): no convergence; the solver's log "

@@ -7,6 +7,7 @@
 // Diagnostics go to stderr. `--describe` prints the twin's locators, bounds and mesh and exits.
 
 #include <charconv>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <iostream>
@@ -20,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/calculix/calculix_twin.hpp"
+#include "twincal/calculix/influence_coefficient_twin.hpp"
 #include "twincal/external/child_groups.hpp"
 
 namespace {
@@ -33,6 +35,8 @@ constexpr std::string_view usage = R"(usage: twincal_calculix_twin [options]
   --upper-parts N, --lower-parts N   synthetic parts per side (default 10 each)
   --no-contact              no sheet-to-sheet contact (still NLGEOM)
   --linear                  no contact, small displacements: a linear solve
+  --influence               the linear model's influence coefficients: d + U + L linear solves
+                            at start, then each Q without the solver (scanned parts: one solve)
   --nominal-gap MM          clearance between the sheets at nominal (default 0.02)
   --gap-stiffness N/MM      penalty of a closed gap (default 1e4)
   --locator-bound MM        locator box half-width (default 1)
@@ -51,6 +55,7 @@ struct Arguments {
   Index upper_parts = 10;
   Index lower_parts = 10;
   bool describe = false;
+  bool influence = false;
   twincal::CalculixOptions options;
 };
 
@@ -95,6 +100,8 @@ Arguments parse_arguments(int argc, char** argv) {
     } else if (option == "--linear") {
       o.contact = false;
       o.geometric_nonlinearity = false;
+    } else if (option == "--influence") {
+      arguments.influence = true;
     } else if (option == "--nominal-gap") {
       o.nominal_gap = parse_number<double>(option, value());
     } else if (option == "--gap-stiffness") {
@@ -154,7 +161,9 @@ twincal::VectorX part_from_json(const nlohmann::json& values, const char* name, 
   return part;
 }
 
-nlohmann::json answer(const twincal::CalculixTwin& twin, const nlohmann::json& request) {
+nlohmann::json answer(const twincal::CalculixTwin& twin,
+                      const twincal::InfluenceCoefficientTwin* influence,
+                      const nlohmann::json& request) {
   const nlohmann::json& assembly = request.at("assembly");
   const nlohmann::json& controls = request.at("controls");
   const Index d = twin.control_dimension();
@@ -186,8 +195,18 @@ nlohmann::json answer(const twincal::CalculixTwin& twin, const nlohmann::json& r
     label = fmt::format("assembly {}", id);
   }
   twincal::VectorX q(u.cols());
-  const twincal::CalculixBatchSummary summary = twin.evaluate(parts, u, q, label);
-  if (!summary.failed.empty()) std::cerr << summary.last_failure << "\n";
+  if (influence != nullptr) {
+    if (assembly.contains("parts")) {
+      influence->quality_batch(parts, u, q);
+    } else {
+      influence->quality_batch(
+          twincal::AssemblyId{assembly.at("upper").get<Index>(), assembly.at("lower").get<Index>()},
+          u, q);
+    }
+  } else {
+    const twincal::CalculixBatchSummary summary = twin.evaluate(parts, u, q, label);
+    if (!summary.failed.empty()) std::cerr << summary.last_failure << "\n";
+  }
   nlohmann::json qualities = nlohmann::json::array();
   for (Index c = 0; c < q.size(); ++c) {
     qualities.push_back(std::isfinite(q(c)) ? nlohmann::json(q(c)) : nlohmann::json(nullptr));
@@ -229,6 +248,20 @@ int main(int argc, char** argv) {
     std::cout << describe(*twin, arguments.layout).dump() << "\n";
     return 0;
   }
+  std::optional<twincal::InfluenceCoefficientTwin> influence;
+  if (arguments.influence) {
+    try {
+      const auto started = std::chrono::steady_clock::now();
+      influence.emplace(*twin);
+      std::cerr << fmt::format(
+          "twincal_calculix_twin: influence coefficients from {} linear solves in {:.2f} s\n",
+          influence->solver_runs(),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    } catch (const twincal::Error& error) {
+      std::cerr << "twincal_calculix_twin: " << error.what() << "\n";
+      return 1;
+    }
+  }
   std::string line;
   while (std::getline(std::cin, line)) {
     nlohmann::json reply;
@@ -236,7 +269,7 @@ int main(int argc, char** argv) {
     try {
       const nlohmann::json request = nlohmann::json::parse(line);
       if (request.is_object() && request.contains("id")) id = request["id"];
-      reply = answer(*twin, request);
+      reply = answer(*twin, influence ? &*influence : nullptr, request);
     } catch (const std::exception& error) {
       std::cerr << "twincal_calculix_twin: " << error.what() << "\n";
       reply = {{"id", id}, {"error", error.what()}};

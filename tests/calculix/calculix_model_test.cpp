@@ -41,6 +41,8 @@ TEST(CalculixModel, DeckHoldsTheMeshTheProcessAndTheContacts) {
   EXPECT_EQ(count(deck, "*STEP, NLGEOM"), 2 * 3);
   EXPECT_EQ(count(deck, "*BOUNDARY, OP=NEW"), 2 * 3);
   EXPECT_EQ(count(deck, "*NODE PRINT, NSET=KEYS"), 3);
+  EXPECT_EQ(count(deck, "*CONTROLS, PARAMETERS=TIME INCREMENTATION\n4, 8, 9, 200, 10, 4, , 20\n"),
+            2 * 3);
 }
 
 TEST(CalculixModel, LinearDeckHasNoGapsAndNoNlgeom) {
@@ -113,18 +115,17 @@ TEST(CalculixModel, RefusesBadPartsAndControls) {
   EXPECT_THROW(model.require_parts(parts), NonFiniteError);
 }
 
-TEST(CalculixModel, QualityIsTheRmsOfTheKeyPointDeviations) {
+TEST(CalculixModel, KeyDeviationsAreTheFreeShapePlusTheMeanFaceDisplacement) {
   const CalculixModel model(SheetMetalLayout::lap_joint(), CalculixOptions{});
   const CalculixParts parts = flat_parts(model);
-  // A print that moves every key-point node by 0.3 mm: y = 0.3 everywhere, Q = 0.3.
+  // A print that moves every key-point node by 0.3 mm on flat parts: y = 0.3 everywhere.
   NodePrint print;
   print.time = 2.0;
   for (Index node = 1; node <= model.deck_node_count(); ++node) {
     print.nodes.push_back(node);
     print.displacements.emplace_back(0.0, 0.0, 0.3);
   }
-  const std::vector<NodePrint> prints{print};
-  EXPECT_NEAR(model.qualities(parts, prints)(0), 0.3, 1e-15);
+  EXPECT_TRUE(model.key_deviations(parts, print).isApproxToConstant(0.3, 1e-15));
   print.nodes.resize(3);
   print.displacements.resize(3);
   EXPECT_THROW((void)model.key_deviations(parts, print), CalculixError);

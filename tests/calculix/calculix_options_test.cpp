@@ -36,6 +36,10 @@ TEST(CalculixOptions, EachRuleNamesItsFieldAndValue) {
               HasSubstr("CalculiX solves gap elements only in a nonlinear (NLGEOM) step"));
   EXPECT_THAT(problem([](CalculixOptions& o) { o.max_increments = 0; }),
               HasSubstr("max_increments: value is 0"));
+  EXPECT_THAT(problem([](CalculixOptions& o) { o.max_iterations = 0; }),
+              HasSubstr("max_iterations: value is 0"));
+  EXPECT_THAT(problem([](CalculixOptions& o) { o.max_cutbacks = 0; }),
+              HasSubstr("max_cutbacks: value is 0"));
   EXPECT_THAT(problem([](CalculixOptions& o) { o.locator_bound = 0.0; }),
               HasSubstr("locator_bound: value is 0"));
   EXPECT_THAT(problem([](CalculixOptions& o) { o.solver_threads = 0; }),

@@ -31,7 +31,6 @@
 /// column's result does not depend on the columns before it beyond the nonlinear solver's
 /// starting point.
 
-#include <span>
 #include <string>
 #include <vector>
 
@@ -86,13 +85,8 @@ class CalculixModel {
   [[nodiscard]] std::string deck(const CalculixParts& parts,
                                  const Eigen::Ref<const MatrixX>& controls) const;
 
-  /// The qualities Q of the columns whose release print is in `prints`, in order: entry c is
-  /// column c's, and the vector stops at the first column without one (a failed step).
-  /// @throws CalculixError{unreadable_results} when a print lacks a key-point node.
-  [[nodiscard]] VectorX qualities(const CalculixParts& parts,
-                                  std::span<const NodePrint> prints) const;
-
   /// The key-point deviations y (mm) of one release print.
+  /// @throws CalculixError{unreadable_results} when the print lacks a key-point node.
   [[nodiscard]] VectorX key_deviations(const CalculixParts& parts, const NodePrint& print) const;
 
  private:

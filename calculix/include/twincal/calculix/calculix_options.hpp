@@ -38,6 +38,13 @@ struct CalculixOptions {
   bool geometric_nonlinearity = true;
   /// Most increments per step of a nonlinear solve before CalculiX gives up.
   Index max_increments = 100;
+  /// Newton iterations of an increment before CalculiX cuts it back (its I_C; default 16).
+  /// With CalculiX's defaults a lap-joint contact solve at a corner-ish control (assembly
+  /// (2, 0), u = (0.67, 0, 0, −0.67, 0, 0.67)) ended in "too many cutbacks"; with these two
+  /// it converges in 1.2 s.
+  Index max_iterations = 200;
+  /// Cutbacks of one increment before CalculiX gives up (its I_A; default 5).
+  Index max_cutbacks = 20;
   /// Half the locator box: every locator moves within [−locator_bound, locator_bound] (mm).
   double locator_bound = 1.0;
   /// Threads one CalculiX process uses (equation solver and element loops).

@@ -79,6 +79,12 @@ class CalculixTwin {
                                 const Eigen::Ref<const MatrixX>& controls, Eigen::Ref<VectorX> out,
                                 std::string_view label) const;
 
+  /// As `evaluate`, with the key-point deviations y (m × k, mm) instead of Q = RMS(y); a failed
+  /// column is NaN throughout.
+  CalculixBatchSummary key_deviations(const CalculixParts& parts,
+                                      const Eigen::Ref<const MatrixX>& controls,
+                                      Eigen::Ref<MatrixX> out, std::string_view label) const;
+
  private:
   std::shared_ptr<const CalculixModel> model_;
   std::vector<std::string> locator_names_;
