@@ -7,6 +7,7 @@
 
 #include "twincal/core/error.hpp"
 #include "twincal/experiments/experiment_config.hpp"
+#include "twincal/experiments/twin_cases.hpp"
 
 namespace twincal {
 namespace {
@@ -124,6 +125,11 @@ TEST(ExternalTwinSettings, GoWithTheExternalCaseAndOnlyWithIt) {
               HasSubstr("case is \"external\" and external_twin is unset; rule: external_twin is "
                         "given with the external case and only with it"));
   config.external_twin = minimal_twin(2);
+  config.assemblies = 7;  // more than its 2 × 3 pairs: refused before any twin is started
+  EXPECT_THAT(config.validate().value_or(""),
+              HasSubstr("assemblies is 7; rule: must be <= the external twin's upper_parts × "
+                        "lower_parts = 6"));
+  config.assemblies = 6;
   EXPECT_EQ(config.validate(), std::nullopt);
   config.twin_case = TwinCase::body;
   EXPECT_THAT(config.validate().value_or(""), HasSubstr("external_twin is set"));
@@ -134,6 +140,90 @@ TEST(ExternalTwinSettings, GoWithTheExternalCaseAndOnlyWithIt) {
   EXPECT_EQ(episode_defining_json(config), episode_defining_json(more_workers));
   more_workers.external_twin->command.back() = "other_twin.py";
   EXPECT_NE(episode_defining_json(config), episode_defining_json(more_workers));
+}
+
+// The budgeted search (optimum_budget): BOBYQA alone, the first row and column of assemblies
+// from the centre with 2B evaluations, the others from the additive warm start with B. On the
+// minimal twin (a separable quadratic under the root) it finds the exact optimum within the
+// budget, and the result does not depend on the number of workers. Its optimum is not additive
+// in the parts (a = 0.2 sin(1.7 i + 0.9 j + k)), so the warm start is only near it: with
+// B = (d + 1)² = 16 one assembly ended 3 % above z*, with 24 at 4e-5, with 2 (d + 1)² = 32
+// every one at round-off (measured).
+TEST(ExternalCaseTwin, BudgetedSearchFindsTheOptimumWithinItsBudget) {
+  ExternalTwinSettings settings = minimal_twin(1);
+  settings.optimum_budget = 32;  // 2 (d + 1)²
+  const ExternalCaseTwin one(settings);
+  settings.workers = 3;
+  const ExternalCaseTwin three(settings);
+  // 2 × 3 assemblies: (0, 0), (0, 1), (0, 2), (1, 0) in phase 0, (1, 1), (1, 2) in phase 1.
+  EXPECT_LE(one.search_evaluations(), 4U * 64U + 2U * 32U);
+  EXPECT_EQ(one.search_evaluations(), three.search_evaluations());
+  for (const AssemblyId& x : one.assemblies()) {
+    const double q0 = 0.04 + 0.01 * static_cast<double>((3 * x.upper + 5 * x.lower) % 7);
+    EXPECT_NEAR(one.optimal_quality(x), std::sqrt(q0), 1e-6 * std::sqrt(q0))
+        << fmt::format("{}", x);
+    EXPECT_EQ(one.optimum(x), three.optimum(x));
+  }
+  settings.optimum_budget = 7;  // < 2d + 2
+  EXPECT_THAT(settings.validate().value_or(""),
+              HasSubstr("external_twin.optimum_budget is 7; rule: 0 or >= 2d + 2 = 8"));
+  nlohmann::json json = settings;
+  json["optimum_budget"] = 16.5;
+  EXPECT_THROW((void)json.get<ExternalTwinSettings>(), InvalidArgumentError);
+}
+
+// A program that answers null for some controls (a solver that did not converge there) does not
+// stop the search: such controls count as worse than any seen, and u0 is the best evaluated one.
+TEST(ExternalCaseTwin, SearchStepsAroundControlsTheTwinCannotEvaluate) {
+  ExternalTwinSettings settings = minimal_twin(2);
+  settings.command = {"python3", TWINCAL_TEST_DATA_DIR "/holey_twin.py"};
+  const ExternalCaseTwin twin(settings);
+  for (const AssemblyId& x : twin.assemblies()) {
+    const double q0 = 0.04 + 0.01 * static_cast<double>((3 * x.upper + 5 * x.lower) % 7);
+    EXPECT_NEAR(twin.optimal_quality(x), std::sqrt(q0), 1e-6) << fmt::format("{}", x);
+    EXPECT_LE(twin.optimum(x)(0), 0.5);
+  }
+}
+
+// Twin ≠ plant for the external case: the plant is the same cell (locators, box, assemblies)
+// measured by another program, e.g. the CalculiX contact solve behind its linear map.
+TEST(ExternalTwinSettings, PlantExternalTwinIsTheSameCellMeasuredByAnotherProgram) {
+  ExperimentConfig config;
+  config.twin_case = TwinCase::external;
+  config.external_twin = minimal_twin(1);
+  config.plant_external_twin = minimal_twin(2);
+  config.assemblies = 6;
+  ASSERT_EQ(config.validate(), std::nullopt);
+  const ExperimentConfig back = nlohmann::json(config).get<ExperimentConfig>();
+  ASSERT_TRUE(back.plant_external_twin.has_value());
+  EXPECT_EQ(back.plant_external_twin->workers, 2);
+  // Its pool's size does not define the episodes; its program does.
+  ExperimentConfig other = config;
+  other.plant_external_twin->workers = 5;
+  EXPECT_EQ(episode_defining_json(config), episode_defining_json(other));
+  other.plant_external_twin->command.back() = "other_twin.py";
+  EXPECT_NE(episode_defining_json(config), episode_defining_json(other));
+  // The plant is built from it and answers for the same assemblies.
+  const std::optional<AnyTwin> plant = make_plant(config);
+  ASSERT_TRUE(plant.has_value());
+  EXPECT_EQ(plant->locator_names(), (std::vector<std::string>{"A", "B", "C"}));
+  // Another cell, or no external case, is refused with the rule.
+  other = config;
+  other.plant_external_twin->locators = {"A", "B", "D"};
+  EXPECT_THAT(other.validate().value_or(""),
+              HasSubstr("plant_external_twin and external_twin differ in locators, bounds or "
+                        "parts"));
+  other = config;
+  other.plant_external_twin->upper_parts = 3;
+  EXPECT_TRUE(other.validate().has_value());
+  other = config;
+  other.plant_external_twin->workers = 0;
+  EXPECT_THAT(other.validate().value_or(""), HasSubstr("plant_external_twin.workers is 0"));
+  ExperimentConfig body;
+  body.plant_external_twin = minimal_twin(1);
+  EXPECT_THAT(body.validate().value_or(""),
+              HasSubstr("plant_external_twin is set with case \"body\"; rule: it is the "
+                        "external case's plant"));
 }
 
 TEST(ExternalTwinSettings, RoundTripsThroughJsonAndRefusesUnknownKeys) {

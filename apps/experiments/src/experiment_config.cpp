@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/experiments/strict_json.hpp"
 
 namespace twincal {
 
@@ -86,7 +87,8 @@ std::optional<std::string> ExperimentConfig::validate() const {
                      *plant_case == TwinCase::analytic || twin_case == TwinCase::analytic)) {
     return fmt::format(
         "plant_case is \"{}\" with case \"{}\"; rule: a separate plant case is for the FEM "
-        "cases (the analytic case takes plant_nonlinearity; an external twin is its own plant)",
+        "cases (the analytic case takes plant_nonlinearity, the external case "
+        "plant_external_twin)",
         to_string(*plant_case), to_string(twin_case));
   }
   if (plant_nonlinearity && twin_case != TwinCase::analytic) {
@@ -117,6 +119,28 @@ std::optional<std::string> ExperimentConfig::validate() const {
   }
   if (external_twin) {
     if (auto problem = external_twin->validate()) return problem;
+  }
+  if (external_twin && assemblies > external_twin->upper_parts * external_twin->lower_parts) {
+    return fmt::format(
+        "assemblies is {}; rule: must be <= the external twin's upper_parts × lower_parts = {}",
+        assemblies, external_twin->upper_parts * external_twin->lower_parts);
+  }
+  if (plant_external_twin) {
+    if (!external_twin) {
+      return fmt::format(
+          "plant_external_twin is set with case \"{}\"; rule: it is the external case's plant",
+          to_string(twin_case));
+    }
+    if (auto problem = plant_external_twin->validate()) return "plant_" + *problem;
+    const ExternalTwinSettings& twin = *external_twin;
+    const ExternalTwinSettings& plant = *plant_external_twin;
+    if (plant.locators != twin.locators || plant.lower_bounds != twin.lower_bounds ||
+        plant.upper_bounds != twin.upper_bounds || plant.upper_parts != twin.upper_parts ||
+        plant.lower_parts != twin.lower_parts) {
+      return "plant_external_twin and external_twin differ in locators, bounds or parts; rule: "
+             "the plant is the same cell (the same locators, box and assemblies) measured by "
+             "another program";
+    }
   }
   if (locators.empty()) return "locators is empty; rule: must name >= 1 locator";
   if (controllers.empty()) return "controllers is empty; rule: must name >= 1 controller";
@@ -158,46 +182,11 @@ struct Field {
   std::function<void(const json&, ExperimentConfig&)> read;
 };
 
-// An integer field takes a JSON integer in its type's range, never a coerced one: 2.9 is not 2,
-// −5 is not 2⁶⁴ − 5, 1e30 is not a count.
-template <typename T>
-void require_integer(const json& value, std::string_view key) {
-  const std::string shown = value.dump(-1, ' ', false, json::error_handler_t::replace);
-  const auto refuse = [&](std::string_view rule) {
-    throw InvalidArgumentError(std::string(key),
-                               fmt::format("{}: is {}; rule: {}", key, shown, rule));
-  };
-  constexpr bool is_unsigned = std::is_unsigned_v<T>;
-  if (!value.is_number_integer() || (is_unsigned && !value.is_number_unsigned())) {
-    refuse(is_unsigned ? "a non-negative integer" : "an integer");
-  }
-  const bool fits =
-      value.is_number_unsigned()
-          ? value.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())
-          : value.get<std::int64_t>() >= static_cast<std::int64_t>(std::numeric_limits<T>::min());
-  if (!fits) {
-    refuse(fmt::format("an integer in [{}, {}]", std::numeric_limits<T>::min(),
-                       std::numeric_limits<T>::max()));
-  }
-}
-
-template <typename T>
-T value_as(const json& value, std::string_view key) {
-  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
-    require_integer<T>(value, key);
-  }
-  try {
-    return value.get<T>();
-  } catch (const json::exception& error) {
-    throw InvalidArgumentError(std::string(key),
-                               fmt::format("{}: is {}; rule: {}", key, value.dump(), error.what()));
-  }
-}
-
 template <typename T>
 Field plain(T ExperimentConfig::*member, std::string_view key) {
-  return {[member, key](json& j, const ExperimentConfig& c) { j[std::string(key)] = c.*member; },
-          [member, key](const json& v, ExperimentConfig& c) { c.*member = value_as<T>(v, key); }};
+  return {
+      [member, key](json& j, const ExperimentConfig& c) { j[std::string(key)] = c.*member; },
+      [member, key](const json& v, ExperimentConfig& c) { c.*member = strict_value<T>(v, key); }};
 }
 
 // A setting that may be unset (JSON null: the paper's default applies).
@@ -207,7 +196,7 @@ Field optional(std::optional<T> ExperimentConfig::*member, std::string_view key)
             j[std::string(key)] = c.*member ? json(*(c.*member)) : json(nullptr);
           },
           [member, key](const json& v, ExperimentConfig& c) {
-            c.*member = v.is_null() ? std::nullopt : std::optional<T>(value_as<T>(v, key));
+            c.*member = v.is_null() ? std::nullopt : std::optional<T>(strict_value<T>(v, key));
           }};
 }
 
@@ -218,7 +207,7 @@ Field choice(Enum ExperimentConfig::*member, std::string_view key,
             j[std::string(key)] = std::string(to_string(c.*member));
           },
           [member, key, parse](const json& v, ExperimentConfig& c) {
-            c.*member = parse(value_as<std::string>(v, key), key);
+            c.*member = parse(strict_value<std::string>(v, key), key);
           }};
 }
 
@@ -232,7 +221,7 @@ Field optional_choice(std::optional<Enum> ExperimentConfig::*member, std::string
           [member, key, parse](const json& v, ExperimentConfig& c) {
             c.*member = v.is_null()
                             ? std::nullopt
-                            : std::optional<Enum>(parse(value_as<std::string>(v, key), key));
+                            : std::optional<Enum>(parse(strict_value<std::string>(v, key), key));
           }};
 }
 
@@ -252,12 +241,14 @@ const std::map<std::string, Field, std::less<>>& fields() {
                                               "plant_nonlinearity", &parse_nonlinearity);
     t["plant_strength"] = optional(&ExperimentConfig::plant_strength, "plant_strength");
     t["external_twin"] = optional(&ExperimentConfig::external_twin, "external_twin");
+    t["plant_external_twin"] =
+        optional(&ExperimentConfig::plant_external_twin, "plant_external_twin");
     t["locators"] = {[](json& j, const ExperimentConfig& c) { j["locators"] = c.locators; },
                      [](const json& v, ExperimentConfig& c) {
                        // Also a JSON list of names or indices, joined into the comma-separated
                        // form.
                        if (!v.is_array()) {
-                         c.locators = value_as<std::string>(v, "locators");
+                         c.locators = strict_value<std::string>(v, "locators");
                          return;
                        }
                        std::string joined;
@@ -265,7 +256,7 @@ const std::map<std::string, Field, std::less<>>& fields() {
                          if (!joined.empty()) joined += ',';
                          joined += entry.is_number_integer()
                                        ? std::to_string(entry.get<long long>())
-                                       : value_as<std::string>(entry, "locators");
+                                       : strict_value<std::string>(entry, "locators");
                        }
                        c.locators = joined;
                      }};
@@ -281,7 +272,7 @@ const std::map<std::string, Field, std::less<>>& fields() {
             return;
           }
           c.controllers.clear();
-          for (const auto& label : value_as<std::vector<std::string>>(v, "controllers")) {
+          for (const auto& label : strict_value<std::vector<std::string>>(v, "controllers")) {
             c.controllers.push_back(ControllerSpec::parse(label));
           }
         }};
@@ -347,9 +338,11 @@ nlohmann::json episode_defining_json(const ExperimentConfig& config) {
   json.erase("runs");
   json.erase("controllers");
   // The pool's size and patience do not change what an external twin answers.
-  if (config.external_twin) {
-    json["external_twin"].erase("workers");
-    json["external_twin"].erase("timeout_ms");
+  for (const char* program : {"external_twin", "plant_external_twin"}) {
+    if (json.contains(program) && json[program].is_object()) {
+      json[program].erase("workers");
+      json[program].erase("timeout_ms");
+    }
   }
   // An unset σz² and its case default give the same episodes.
   json["measurement_variance"] = config.filter_measurement_variance();

@@ -3,13 +3,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <exception>
+#include <limits>
 #include <optional>
 #include <thread>
 
 #include <fmt/format.h>
 
-#include "twincal/controllers/individual_optimum.hpp"
+#include "twincal/controllers/additive_warm_start.hpp"
+#include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
@@ -45,24 +48,54 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings)
     : pool_(pool_options(settings)),
       lower_parts_(settings.lower_parts),
       global_evaluations_(settings.optimum_global_evaluations),
-      local_evaluations_(settings.optimum_local_evaluations) {
+      local_evaluations_(settings.optimum_local_evaluations),
+      budget_(settings.optimum_budget) {
   for (Index i = 0; i < settings.upper_parts; ++i) {
     for (Index j = 0; j < settings.lower_parts; ++j) assemblies_.push_back({i, j});
   }
   const Index n = std::ssize(assemblies_);
-  const Index d = control_dimension();
-  optima_.resize(d, n);
+  optima_.resize(control_dimension(), n);
   optimal_qualities_.resize(n);
-  // Worker w searches assemblies w, w + T, …: one request in flight per worker.
-  const Index threads = std::min(pool_.workers(), n);
+  const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
+  const auto from_centre = [&](const AssemblyId&) { return centre; };
+  if (budget_ == 0) {
+    std::vector<Index> all(static_cast<std::size_t>(n));
+    for (Index a = 0; a < n; ++a) all[static_cast<std::size_t>(a)] = a;
+    search_all(all, from_centre, global_evaluations_, local_evaluations_);
+    return;
+  }
+  // Budgeted: the first row and column from the centre, then the others from the additive warm
+  // start, each phase finished before the next, so no start depends on the workers' timing.
+  std::vector<Index> phases[2];
+  for (Index a = 0; a < n; ++a) {
+    phases[AdditiveWarmStart::phase(assemblies_[static_cast<std::size_t>(a)])].push_back(a);
+  }
+  search_all(phases[0], from_centre, 0, 2 * budget_);
+  AdditiveWarmStart warm(lower_bounds(), upper_bounds());
+  for (const Index a : phases[0])
+    warm.record(assemblies_[static_cast<std::size_t>(a)], optima_.col(a));
+  search_all(
+      phases[1], [&](const AssemblyId& assembly) { return warm.start(assembly, centre); }, 0,
+      budget_);
+}
+
+template <typename Start>
+void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Start& start,
+                                  Index global_evaluations, Index local_evaluations) {
+  const Index count = std::ssize(positions);
+  if (count == 0) return;
+  // Worker w searches positions w, w + T, …: one request in flight per worker.
+  const Index threads = std::min(pool_.workers(), count);
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(threads));
   std::vector<std::uint64_t> evaluations(static_cast<std::size_t>(threads), 0);
   const auto search_share = [&](Index w) {
-    for (Index a = w; a < n; a += threads) {
+    for (Index k = w; k < count; k += threads) {
+      const Index a = positions[static_cast<std::size_t>(k)];
+      const AssemblyId& assembly = assemblies_[static_cast<std::size_t>(a)];
       try {
         evaluations[static_cast<std::size_t>(w)] +=
-            search(w, assembly_json(assemblies_[static_cast<std::size_t>(a)]), optima_.col(a),
-                   optimal_qualities_(a));
+            search(w, assembly_json(assembly), start(assembly), global_evaluations,
+                   local_evaluations, optima_.col(a), optimal_qualities_(a));
       } catch (...) {
         failures[static_cast<std::size_t>(w)] = std::current_exception();
         return;
@@ -81,15 +114,44 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings)
 }
 
 std::uint64_t ExternalCaseTwin::search(Index worker, const nlohmann::json& assembly,
-                                       Eigen::Ref<VectorX> optimum, double& quality) const {
+                                       const VectorX& start, Index global_evaluations,
+                                       Index local_evaluations, Eigen::Ref<VectorX> optimum,
+                                       double& quality) const {
   NloptOptimizerOptions budgets;
-  budgets.global_evaluations = static_cast<std::uint64_t>(global_evaluations_);
-  budgets.local_evaluations = static_cast<std::uint64_t>(local_evaluations_);
-  const IndividualOptimum<ExternalTwin> optimizer(pool_.worker(worker), NloptOptimizer(budgets));
-  const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
-  const IndividualControl found = optimizer.optimize(assembly, centre);
-  optimum = found.control;
-  quality = found.quality;
+  budgets.global_evaluations = static_cast<std::uint64_t>(global_evaluations);
+  budgets.local_evaluations = static_cast<std::uint64_t>(local_evaluations);
+  const ExternalTwin& twin = pool_.worker(worker);
+  // A control the program cannot evaluate (it answers null: a solver that did not converge)
+  // counts, for the search only, as worse than anything seen: 2 × the largest quality so far
+  // + 1 mm. The optimum is the best control the program did evaluate.
+  double largest = 0.0;
+  double best = std::numeric_limits<double>::infinity();
+  VectorX best_control = start;
+  std::uint64_t unevaluable = 0;
+  const Objective objective = [&](const Eigen::Ref<const VectorX>& u) {
+    const double q = twin.quality(assembly, u);
+    if (!std::isfinite(q)) {
+      ++unevaluable;
+      return 2.0 * largest + 1.0;
+    }
+    largest = std::max(largest, q);
+    if (q < best) {
+      best = q;
+      best_control = u;
+    }
+    return q;
+  };
+  const OptimizationResult found =
+      NloptOptimizer(budgets).minimize(objective, start, lower_bounds(), upper_bounds());
+  if (!std::isfinite(best)) {
+    throw InvalidArgumentError(
+        "optimum",
+        fmt::format("optimum: the twin answered no quality at any of the {} controls searched "
+                    "for assembly {}; rule: the u0 search needs evaluable controls",
+                    found.evaluations, assembly.dump()));
+  }
+  optimum = best_control;
+  quality = best;
   return found.evaluations;
 }
 
@@ -109,7 +171,11 @@ AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
     optimum = known->control;
     quality = known->quality;
   } else {
-    evaluations = search(0, {{"parts", parts}}, optimum, quality);
+    const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
+    evaluations = budget_ == 0
+                      ? search(0, {{"parts", parts}}, centre, global_evaluations_,
+                               local_evaluations_, optimum, quality)
+                      : search(0, {{"parts", parts}}, centre, 0, 2 * budget_, optimum, quality);
   }
   // The search succeeded: only now does anything change.
   const Index column = optima_.cols();

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/experiments/strict_json.hpp"
 
 namespace twincal {
 
@@ -47,6 +48,18 @@ std::optional<std::string> ExternalTwinSettings::validate() const {
         "are {} and {}; rule: >= 0 and >= 1",
         optimum_global_evaluations, optimum_local_evaluations);
   }
+  if (optimum_budget < 0 || optimum_budget > 1000000) {
+    return fmt::format(
+        "external_twin.optimum_budget is {}; rule: must lie in [0, 1000000] "
+        "(0: the full search)",
+        optimum_budget);
+  }
+  if (optimum_budget > 0 && optimum_budget < 2 * static_cast<Index>(locators.size()) + 2) {
+    return fmt::format(
+        "external_twin.optimum_budget is {}; rule: 0 or >= 2d + 2 = {} (BOBYQA's "
+        "first model needs 2d + 1 evaluations)",
+        optimum_budget, 2 * locators.size() + 2);
+  }
   if (timeout_ms < 1) {
     return fmt::format("external_twin.timeout_ms is {}; rule: must be >= 1", timeout_ms);
   }
@@ -63,7 +76,8 @@ void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {
           {"workers", settings.workers},
           {"timeout_ms", settings.timeout_ms},
           {"optimum_global_evaluations", settings.optimum_global_evaluations},
-          {"optimum_local_evaluations", settings.optimum_local_evaluations}};
+          {"optimum_local_evaluations", settings.optimum_local_evaluations},
+          {"optimum_budget", settings.optimum_budget}};
 }
 
 void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
@@ -98,23 +112,25 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
       } else if (key == "upper_bounds") {
         read.upper_bounds = value.get<std::vector<double>>();
       } else if (key == "upper_parts") {
-        read.upper_parts = value.get<Index>();
+        read.upper_parts = strict_value<Index>(value, field);
       } else if (key == "lower_parts") {
-        read.lower_parts = value.get<Index>();
+        read.lower_parts = strict_value<Index>(value, field);
       } else if (key == "workers") {
-        read.workers = value.get<Index>();
+        read.workers = strict_value<Index>(value, field);
       } else if (key == "timeout_ms") {
-        read.timeout_ms = value.get<Index>();
+        read.timeout_ms = strict_value<Index>(value, field);
       } else if (key == "optimum_global_evaluations") {
-        read.optimum_global_evaluations = value.get<Index>();
+        read.optimum_global_evaluations = strict_value<Index>(value, field);
       } else if (key == "optimum_local_evaluations") {
-        read.optimum_local_evaluations = value.get<Index>();
+        read.optimum_local_evaluations = strict_value<Index>(value, field);
+      } else if (key == "optimum_budget") {
+        read.optimum_budget = strict_value<Index>(value, field);
       } else {
         throw InvalidArgumentError(
             field, fmt::format("config: key \"{}\" is unknown; rule: must be one of [command, "
                                "locators, lower_bounds, upper_bounds, upper_parts, lower_parts, "
                                "workers, timeout_ms, optimum_global_evaluations, "
-                               "optimum_local_evaluations]",
+                               "optimum_local_evaluations, optimum_budget]",
                                field));
       }
     } catch (const nlohmann::json::exception& error) {

@@ -137,6 +137,11 @@ std::optional<AnyTwin> make_plant(const ExperimentConfig& config) {
   plant.plant_case.reset();
   plant.plant_nonlinearity.reset();
   plant.plant_strength.reset();
+  plant.plant_external_twin.reset();
+  if (config.plant_external_twin) {
+    plant.external_twin = *config.plant_external_twin;
+    return make_twin(plant);
+  }
   if (config.plant_case) {
     plant.twin_case = *config.plant_case;
     return make_twin(plant);
@@ -242,6 +247,9 @@ std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups) {
                                           ? nlohmann::json(to_string(*config.plant_nonlinearity))
                                           : nlohmann::json(nullptr);
     plant_key["plant_strength"] = config.plant_strength.value_or(config.strength);
+    plant_key["plant_external"] = config.plant_external_twin
+                                      ? nlohmann::json(*config.plant_external_twin)
+                                      : nlohmann::json(nullptr);
     auto full = full_twins.find(key);
     if (full == full_twins.end()) full = full_twins.emplace(key, make_twin(config)).first;
     auto plant = plants.find(plant_key.dump());

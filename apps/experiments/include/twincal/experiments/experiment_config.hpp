@@ -53,6 +53,10 @@ struct ExperimentConfig {
   std::optional<Nonlinearity> plant_nonlinearity{};
   /// Strength of plant_nonlinearity (unset: `strength`).
   std::optional<double> plant_strength{};
+  /// The plant of the external case when it is another program than the twin (e.g. the
+  /// CalculiX contact solve behind its linear influence-coefficient twin, docs/calculix.md):
+  /// the same locators, bounds and parts as `external_twin`. Unset: the twin is the plant.
+  std::optional<ExternalTwinSettings> plant_external_twin{};
   /// Controlled (and drifting) locators: "A", "B", "C" (the twin's significant locators),
   /// "ABC", "all", or a comma-separated list of locator names or 0-based indices.
   std::string locators = "A";

@@ -82,15 +82,23 @@ class ExternalCaseTwin {
  private:
   // Column of `assembly` in optima_: the pairs first, then the scanned assemblies.
   [[nodiscard]] Index position(const AssemblyId& assembly) const;
-  // u0 and z* of `assembly` (as the program receives it), searched with worker `worker`, into
-  // `optimum` and `quality`; returns the evaluations it took.
-  std::uint64_t search(Index worker, const nlohmann::json& assembly, Eigen::Ref<VectorX> optimum,
-                       double& quality) const;
+  // u0 and z* of `assembly` (as the program receives it), searched with worker `worker` from
+  // `start` with NLopt's two phases and these budgets, into `optimum` and `quality`; returns the
+  // evaluations it took.
+  std::uint64_t search(Index worker, const nlohmann::json& assembly, const VectorX& start,
+                       Index global_evaluations, Index local_evaluations,
+                       Eigen::Ref<VectorX> optimum, double& quality) const;
+  // Searches the assemblies at `positions` (indices into assemblies_), one request in flight per
+  // worker, each from start(assembly).
+  template <typename Start>
+  void search_all(const std::vector<Index>& positions, const Start& start, Index global_evaluations,
+                  Index local_evaluations);
 
   ExternalTwinPool pool_;
   Index lower_parts_;
   Index global_evaluations_;
   Index local_evaluations_;
+  Index budget_;  // optimum_budget: 0 for the full search
   std::vector<AssemblyId> assemblies_;
   std::vector<nlohmann::json> scanned_parts_;  // k-th scanned assembly's parts
   std::map<std::string, Index> scanned_ids_;   // parts (compact JSON) → k

@@ -9,7 +9,8 @@
 ///   {"command": ["python3", "twin.py"], "locators": ["A", "B", "C"],
 ///    "lower_bounds": [-1, -1, -1], "upper_bounds": [1, 1, 1],
 ///    "upper_parts": 10, "lower_parts": 10, "workers": 4, "timeout_ms": 10000,
-///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000}
+///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000,
+///    "optimum_budget": 0}
 
 #include <optional>
 #include <string>
@@ -34,6 +35,11 @@ struct ExternalTwinSettings {
   /// nlopt_optimizer.hpp): every evaluation is one request, so a slow twin wants them small.
   Index optimum_global_evaluations = 2000;
   Index optimum_local_evaluations = 1000;
+  /// A budgeted u0(x) search instead (the two budgets above are then unused): 0 searches as
+  /// above; B > 0 runs BOBYQA alone with B evaluations per assembly, from the additive warm
+  /// start u0(i, 0) + u0(0, j) − u0(0, 0) (controllers' additive_warm_start.hpp), and with 2B
+  /// from the centre for the first row and column of assemblies and for scanned ones.
+  Index optimum_budget = 0;
 
   static constexpr Index max_parts = 10000;
 
