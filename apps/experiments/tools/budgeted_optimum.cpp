@@ -1,0 +1,77 @@
+// twincal_budgeted_optimum: how close a budgeted u0 search (BOBYQA alone, from controllers'
+// AdditiveWarmStart, as `optimum_budget` runs it for the external case) comes to the full or
+// exact optimum of a case's 100 assemblies (docs/benchmarks.md, "Budgeted u0").
+//   twincal_budgeted_optimum CASE [D] [FACTOR] [SEED]
+// CASE: analytic | contact | stiffening | kink (the analytic family, D locators) | body | door |
+// body-contact | door-contact; budget B = FACTOR (d + 1)² (FACTOR 1 by default); the first row and
+// column get 2B from the centre, the others B from the additive start. The reference z* is the
+// case's own: exact (analytic RMS-quadratic, body, door) or the full search (DIRECT-L then
+// BOBYQA, 2000 + 1000 evaluations; the FEM contact cases: BOBYQA from the linear optimum).
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "twincal/controllers/additive_warm_start.hpp"
+#include "twincal/controllers/individual_optimum.hpp"
+#include "twincal/experiments/experiment_choices.hpp"
+#include "twincal/experiments/twin_cases.hpp"
+
+int main(int argc, char** argv) {
+  using namespace twincal;
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: twincal_budgeted_optimum CASE [D] [FACTOR] [SEED]\n");
+    return 2;
+  }
+  try {
+    const std::string which = argv[1];
+    ExperimentConfig config;
+    config.twin_seed = argc > 4 ? std::stoull(argv[4]) : 2023;
+    if (which == "analytic" || which == "contact" || which == "stiffening" || which == "kink") {
+      config.twin_case = TwinCase::analytic;
+      config.analytic_dimension = argc > 2 ? std::stol(argv[2]) : 3;
+      if (which != "analytic") config.nonlinearity = parse_nonlinearity(which, "CASE");
+    } else {
+      config.twin_case = parse_twin_case(which, "CASE");
+    }
+    const double factor = argc > 3 ? std::stod(argv[3]) : 1.0;
+    const AnyTwin twin = make_twin(config);
+    const Index d = twin.control_dimension();
+    const auto budget = static_cast<std::uint64_t>(factor * static_cast<double>((d + 1) * (d + 1)));
+    std::vector<AssemblyId> order = twin.assemblies();
+    std::stable_sort(order.begin(), order.end(), [](const AssemblyId& a, const AssemblyId& b) {
+      return AdditiveWarmStart::phase(a) < AdditiveWarmStart::phase(b);
+    });
+    AdditiveWarmStart warm(twin.lower_bounds(), twin.upper_bounds());
+    const VectorX centre = 0.5 * (twin.lower_bounds() + twin.upper_bounds());
+    std::vector<double> gaps;
+    std::uint64_t evaluations = 0;
+    for (const AssemblyId& assembly : order) {
+      NloptOptimizerOptions options;
+      options.global_evaluations = 0;
+      options.local_evaluations = AdditiveWarmStart::phase(assembly) == 0 ? 2 * budget : budget;
+      const IndividualOptimum<AnyTwin> search(twin, NloptOptimizer(options));
+      const IndividualControl found = search.optimize(assembly, warm.start(assembly, centre));
+      warm.record(assembly, found.control);
+      evaluations += found.evaluations;
+      const double reference = twin.optimal_quality(assembly);
+      gaps.push_back((found.quality - reference) / reference);
+    }
+    std::sort(gaps.begin(), gaps.end());
+    const std::size_t n = gaps.size();
+    const auto within = std::count_if(gaps.begin(), gaps.end(), [](double g) { return g <= 0.01; });
+    std::printf(
+        "%s d=%ld seed=%llu budget=%llu: mean evaluations per assembly %.1f (4(d+1)^2 = %ld); "
+        "relative gap to z*: median %.2e, 90th percentile %.2e, max %.2e, min %.2e; within 1 %%: "
+        "%ld/%zu\n",
+        which.c_str(), static_cast<long>(d), static_cast<unsigned long long>(config.twin_seed),
+        static_cast<unsigned long long>(budget), static_cast<double>(evaluations) / double(n),
+        static_cast<long>(4 * (d + 1) * (d + 1)), gaps[n / 2], gaps[n * 9 / 10], gaps.back(),
+        gaps.front(), static_cast<long>(within), n);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "twincal_budgeted_optimum: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}
