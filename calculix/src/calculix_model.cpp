@@ -1,7 +1,9 @@
 #include "twincal/calculix/calculix_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <string>
 #include <utility>
 
 #include <fmt/format.h>
@@ -32,6 +34,16 @@ SheetMetalLayout refined(SheetMetalLayout layout, const CalculixOptions& options
   }
   layout.element_size /= static_cast<double>(options.refinement);
   return layout;
+}
+
+// CalculiX reads a number field of at most 20 characters: the shortest representation that
+// round-trips, else the most significant digits that fit (17 → 15 digits lose < 1e-14 of it).
+std::string ccx_number(double value) {
+  std::string text = fmt::format("{}", value);
+  for (int digits = 16; text.size() > 20 && digits > 0; --digits) {
+    text = fmt::format("{:.{}g}", value, digits);
+  }
+  return text;
 }
 
 template <typename... Args>
@@ -140,15 +152,15 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
     for (Index face = 0; face < 2; ++face) {
       const double offset = face == 0 ? -0.5 * t : 0.5 * t;
       for (Index node = 0; node < m.node_count(); ++node) {
-        append(out, "{}, {:.17g}, {:.17g}, {:.17g}\n", deck_node(part, node, face), m.x(node),
-               m.y(node), mid + free_shape(parts, part, node) + offset);
+        append(out, "{}, {}, {}, {}\n", deck_node(part, node, face), ccx_number(m.x(node)),
+               ccx_number(m.y(node)), ccx_number(mid + free_shape(parts, part, node) + offset));
       }
     }
   }
   const Index first_aux = deck_node_count() - static_cast<Index>(layout_.welds.size()) + 1;
   for (std::size_t w = 0; w < layout_.welds.size(); ++w) {
-    append(out, "{}, {:.17g}, {:.17g}, 0\n", first_aux + static_cast<Index>(w),
-           layout_.welds[w].x(), layout_.welds[w].y());
+    append(out, "{}, {}, {}, 0\n", first_aux + static_cast<Index>(w),
+           ccx_number(layout_.welds[w].x()), ccx_number(layout_.welds[w].y()));
   }
   Index element = 0;
   for (const SheetMetalPart part : {lower, upper}) {
@@ -182,11 +194,11 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
         options_.nominal_gap + parts.upper(pair.upper_node) - parts.lower(pair.lower_node);
     append(out, "*ELEMENT, TYPE=GAPUNI, ELSET=GAP{}\n{}, {}, {}\n", k, ++element,
            deck_node(lower, pair.lower_node, 1), deck_node(upper, pair.upper_node, 0));
-    append(out, "*GAP, ELSET=GAP{}\n{:.17g}, 0., 0., 1., , {:.17g}, {:.17g}\n", k, clearance,
-           options_.gap_stiffness, options_.open_gap_force);
+    append(out, "*GAP, ELSET=GAP{}\n{}, 0., 0., 1., , {}, {}\n", k, ccx_number(clearance),
+           ccx_number(options_.gap_stiffness), ccx_number(options_.open_gap_force));
   }
-  append(out, "*MATERIAL, NAME=STEEL\n*ELASTIC\n{:.17g}, {:.17g}\n", options_.section.young_modulus,
-         options_.section.poisson_ratio);
+  append(out, "*MATERIAL, NAME=STEEL\n*ELASTIC\n{}, {}\n",
+         ccx_number(options_.section.young_modulus), ccx_number(options_.section.poisson_ratio));
   out += "*SOLID SECTION, ELSET=LOWER, MATERIAL=STEEL\n";
   out += "*SOLID SECTION, ELSET=UPPER, MATERIAL=STEEL\n";
   out += "*NSET, NSET=KEYS\n";
@@ -201,7 +213,7 @@ void CalculixModel::write_fixture(std::string& out, const CalculixParts& parts,
   const auto hold = [&](const PointNode& point, double total) {
     const double e = total - free_shape(parts, point.part, point.node);
     for (Index face = 0; face < 2; ++face) {
-      append(out, "{}, 3, 3, {:.17g}\n", deck_node(point.part, point.node, face), e);
+      append(out, "{}, 3, 3, {}\n", deck_node(point.part, point.node, face), ccx_number(e));
     }
   };
   const bool on_locators = !release || layout_.final_support == FinalSupport::adjusted_locators;
@@ -218,15 +230,29 @@ void CalculixModel::write_fixture(std::string& out, const CalculixParts& parts,
   }
   const Index first_aux = deck_node_count() - static_cast<Index>(layout_.welds.size()) + 1;
   for (std::size_t w = 0; w < layout_.welds.size(); ++w) {
-    append(out, "{}, 3, 3, {:.17g}\n", first_aux + static_cast<Index>(w),
-           parts.lower(lower_weld_nodes_[w]) - parts.upper(upper_weld_nodes_[w]));
+    append(out, "{}, 3, 3, {}\n", first_aux + static_cast<Index>(w),
+           ccx_number(parts.lower(lower_weld_nodes_[w]) - parts.upper(upper_weld_nodes_[w])));
   }
 }
 
-std::string CalculixModel::deck(const CalculixParts& parts,
+CalculixParts CalculixModel::placed(const CalculixParts& parts) const {
+  double lift = 0.0;
+  for (const ContactPair& pair : pairs_) {
+    lift = std::max(lift, parts.lower(pair.lower_node) - parts.upper(pair.upper_node));
+  }
+  for (std::size_t w = 0; w < upper_weld_nodes_.size(); ++w) {
+    lift = std::max(lift, parts.lower(lower_weld_nodes_[w]) - parts.upper(upper_weld_nodes_[w]));
+  }
+  CalculixParts lifted = parts;
+  lifted.upper.array() += lift;
+  return lifted;
+}
+
+std::string CalculixModel::deck(const CalculixParts& free_parts,
                                 const Eigen::Ref<const MatrixX>& controls) const {
-  require_parts(parts);
+  require_parts(free_parts);
   require_controls(controls);
+  const CalculixParts parts = placed(free_parts);
   std::string out;
   out.reserve(static_cast<std::size_t>(160 * deck_node_count()));
   write_model(out, parts);
@@ -249,7 +275,9 @@ std::string CalculixModel::deck(const CalculixParts& parts,
   return out;
 }
 
-VectorX CalculixModel::key_deviations(const CalculixParts& parts, const NodePrint& print) const {
+VectorX CalculixModel::key_deviations(const CalculixParts& free_parts,
+                                      const NodePrint& print) const {
+  const CalculixParts parts = placed(free_parts);
   VectorX y(key_point_count());
   for (Index i = 0; i < key_point_count(); ++i) {
     const PointNode& key = key_nodes_[static_cast<std::size_t>(i)];

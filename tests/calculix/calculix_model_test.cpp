@@ -1,5 +1,6 @@
 #include "twincal/calculix/calculix_model.hpp"
 
+#include <sstream>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -76,6 +77,31 @@ TEST(CalculixModel, ClearancesAndLocatorDisplacementsFollowTheParts) {
   // The upper locators hold total deviation 0: e_z = 0 − 0.125 on both faces of each; the guns
   // close the welds' gap f_L − f_U = −0.125. Both in each of the two steps.
   EXPECT_EQ(count(deck, ", 3, 3, -0.125\n"), 2 * (3 * 2 + 5));
+}
+
+// CalculiX reads at most 20 characters per number: every field of the deck fits, whatever the
+// values (a weld gap of 1.3877787807814457e-17 mm once made a deck CalculiX refused).
+TEST(CalculixModel, EveryNumberFitsCalculixFields) {
+  const CalculixModel model(SheetMetalLayout::lap_joint(), CalculixOptions{});
+  CalculixParts parts = flat_parts(model);
+  for (Index i = 0; i < parts.upper.size(); ++i) {
+    parts.upper(i) = -1.0 / 3.0 * 1e-17 * static_cast<double>(i + 1);
+    parts.lower(i) = 0.123456789012345678 * static_cast<double>(i % 7) - 1e-300;
+  }
+  const std::string deck = model.deck(parts, MatrixX::Constant(6, 2, -2.0 / 3.0));
+  std::istringstream lines(deck);
+  std::string line;
+  Index numbers = 0;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line.front() == '*') continue;  // keywords and comments
+    std::istringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) {
+      EXPECT_LE(field.size(), 21U) << field;  // a blank after the comma, then <= 20
+      ++numbers;
+    }
+  }
+  EXPECT_GT(numbers, 1000);
 }
 
 TEST(CalculixModel, RefusesWhatItCannotModelWithNamedRules) {

@@ -387,6 +387,18 @@ TEST(ServeSession, RefusesInvalidOptionsBeforeCreatingTheDatabase) {
   options.run = -1;
   EXPECT_THROW((void)ServeSession::start(options, database.get()), InvalidArgumentError);
   EXPECT_FALSE(fs::exists(database.get()));
+  // The cell is the plant: a config with a plant of its own is refused, not built for nothing.
+  options = analytic_options("active");
+  options.config.plant_nonlinearity = Nonlinearity::contact;
+  ASSERT_FALSE(options.config.validate().has_value());
+  try {
+    (void)ServeSession::start(options, database.get());
+    FAIL() << "served a config with a plant";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_NE(std::string(error.what()).find("twincal serve's plant is the cell"),
+              std::string::npos);
+  }
+  EXPECT_FALSE(fs::exists(database.get()));
 }
 
 }  // namespace

@@ -64,6 +64,10 @@ ExperimentConfig settings_config(const json& settings) {
 
 std::optional<std::string> ServeOptions::validate() const {
   if (auto problem = config.validate()) return "config: " + *problem;
+  if (config.plant_case || config.plant_nonlinearity || config.plant_external_twin) {
+    return "config: a plant (plant_case, plant_nonlinearity or plant_external_twin) is set; "
+           "rule: twincal serve's plant is the cell, so a served config sets none";
+  }
   if (run < 0) return fmt::format("run: is {}; rule: must be >= 0", run);
   return std::nullopt;
 }

@@ -91,6 +91,9 @@ class CalculixModel {
 
  private:
   [[nodiscard]] Index deck_node(SheetMetalPart part, Index node, Index face) const noexcept;
+  // The parts as placed in the fixture: the upper one lifted rigidly (a translation in z) until
+  // no flange pair or weld starts interpenetrated.
+  [[nodiscard]] CalculixParts placed(const CalculixParts& parts) const;
   [[nodiscard]] double free_shape(const CalculixParts& parts, SheetMetalPart part,
                                   Index node) const noexcept;
   void write_model(std::string& out, const CalculixParts& parts) const;
