@@ -8,7 +8,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "twincal/core/random_stream.hpp"
+#include "calculix_test_controls.hpp"
 #include "twincal/external/external_twin_pool.hpp"
 #include "twincal/sheet_metal/sheet_metal_twin.hpp"
 
@@ -34,12 +34,7 @@ CalculixOptions no_contact_options() {
 }
 
 MatrixX box_controls(Index columns, std::uint64_t seed) {
-  RandomStream stream(seed);
-  MatrixX controls(6, columns);
-  for (Index c = 0; c < columns; ++c) {
-    for (Index k = 0; k < 6; ++k) controls(k, c) = -0.8 + 1.6 * stream.uniform();
-  }
-  return controls;
+  return calculix_test::random_controls(columns, seed, 0.8);
 }
 
 // Two independent FEMs of the same lap joint and parts: CalculiX's C3D8I solids and the

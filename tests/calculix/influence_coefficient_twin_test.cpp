@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "twincal/core/random_stream.hpp"
+#include "calculix_test_controls.hpp"
 
 namespace twincal {
 namespace {
@@ -15,12 +15,7 @@ CalculixTwin lap_joint(bool linear) {
 }
 
 MatrixX random_controls(Index columns, std::uint64_t seed) {
-  RandomStream stream(seed);
-  MatrixX controls(6, columns);
-  for (Index c = 0; c < columns; ++c) {
-    for (Index k = 0; k < 6; ++k) controls(k, c) = -1.0 + 2.0 * stream.uniform();
-  }
-  return controls;
+  return calculix_test::random_controls(columns, seed, 1.0);
 }
 
 // The parts' scaled copy: the same shapes, `factor` times the deviation.
