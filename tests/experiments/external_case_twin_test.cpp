@@ -1,12 +1,16 @@
 #include "twincal/experiments/external_case_twin.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "twincal/core/error.hpp"
 #include "twincal/experiments/experiment_config.hpp"
+#include "twincal/experiments/experiment_runner.hpp"
+#include "twincal/experiments/result_store.hpp"
 #include "twincal/experiments/twin_cases.hpp"
 
 namespace twincal {
@@ -125,12 +129,18 @@ TEST(ExternalTwinSettings, GoWithTheExternalCaseAndOnlyWithIt) {
               HasSubstr("case is \"external\" and external_twin is unset; rule: external_twin is "
                         "given with the external case and only with it"));
   config.external_twin = minimal_twin(2);
-  config.assemblies = 7;  // more than its 2 × 3 pairs: refused before any twin is started
-  EXPECT_THAT(config.validate().value_or(""),
+  // More episodes' assemblies than its 2 × 3 pairs: refused before any twin is started, by the
+  // study (not by validate(): twincal serve takes the same config and runs no episodes).
+  config.assemblies = 7;
+  EXPECT_EQ(config.validate(), std::nullopt);
+  EXPECT_THAT(episode_assemblies_problem(config).value_or(""),
               HasSubstr("assemblies is 7; rule: must be <= the external twin's upper_parts × "
                         "lower_parts = 6"));
+  ResultStore store(std::filesystem::temp_directory_path() / "twincal-assemblies-check");
+  EXPECT_THROW((void)run_experiments(std::vector<ExperimentGroup>{{config}}, store, RunOptions{}),
+               InvalidArgumentError);
   config.assemblies = 6;
-  EXPECT_EQ(config.validate(), std::nullopt);
+  EXPECT_EQ(episode_assemblies_problem(config), std::nullopt);
   config.twin_case = TwinCase::body;
   EXPECT_THAT(config.validate().value_or(""), HasSubstr("external_twin is set"));
   // The pool's size does not define the episodes, the program does.

@@ -120,11 +120,6 @@ std::optional<std::string> ExperimentConfig::validate() const {
   if (external_twin) {
     if (auto problem = external_twin->validate()) return problem;
   }
-  if (external_twin && assemblies > external_twin->upper_parts * external_twin->lower_parts) {
-    return fmt::format(
-        "assemblies is {}; rule: must be <= the external twin's upper_parts × lower_parts = {}",
-        assemblies, external_twin->upper_parts * external_twin->lower_parts);
-  }
   if (plant_external_twin) {
     if (!external_twin) {
       return fmt::format(
@@ -330,6 +325,16 @@ void from_json(const nlohmann::json& json, ExperimentConfig& config) {
     it->second.read(value, read);
   }
   config = std::move(read);
+}
+
+std::optional<std::string> episode_assemblies_problem(const ExperimentConfig& config) {
+  if (config.external_twin &&
+      config.assemblies > config.external_twin->upper_parts * config.external_twin->lower_parts) {
+    return fmt::format(
+        "assemblies is {}; rule: must be <= the external twin's upper_parts × lower_parts = {}",
+        config.assemblies, config.external_twin->upper_parts * config.external_twin->lower_parts);
+  }
+  return std::nullopt;
 }
 
 nlohmann::json episode_defining_json(const ExperimentConfig& config) {

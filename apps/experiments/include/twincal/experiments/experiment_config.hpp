@@ -121,6 +121,12 @@ void to_json(nlohmann::json& json, const ExperimentConfig& config);
 /// @throws InvalidArgumentError naming an unknown key or a value of the wrong type or spelling.
 void from_json(const nlohmann::json& json, ExperimentConfig& config);
 
+/// Whether `config`'s episodes fit its twin's assemblies, where that is known without building
+/// the twin (the external case: upper_parts × lower_parts), so that a study is refused before
+/// any program starts. Not part of `validate()`: `twincal serve` takes the same config and has
+/// no episodes.
+[[nodiscard]] std::optional<std::string> episode_assemblies_problem(const ExperimentConfig& config);
+
 /// The JSON of the fields that decide what one episode does: everything but `name`, `runs` and
 /// `controllers` (which say which episodes exist). Results are only reused under an equal one.
 [[nodiscard]] nlohmann::json episode_defining_json(const ExperimentConfig& config);
