@@ -206,10 +206,7 @@ int list_study(const std::vector<ExperimentGroup>& groups) {
   std::vector<ExperimentGroup> built;  // the groups whose twins are built to resolve locators
   for (const ExperimentGroup& group : groups) {
     require_valid(fmt::format("group \"{}\"", group.config.group_name()), group.config);
-    if (auto problem = episode_assemblies_problem(group.config)) {
-      throw InvalidArgumentError(
-          "assemblies", fmt::format("group \"{}\": {}", group.config.group_name(), *problem));
-    }
+    require_episodes_fit(group.config);
     if (group.config.twin_case != TwinCase::external) built.push_back(group);
   }
   const std::vector<CaseTwin> twins = make_case_twins(built);

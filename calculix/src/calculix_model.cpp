@@ -104,6 +104,11 @@ Index CalculixModel::deck_node(SheetMetalPart part, Index node, Index face) cons
   return 1 + 2 * lower_nodes + face * upper_mesh_.node_count() + node;
 }
 
+Index CalculixModel::weld_aux_node(std::size_t weld) const noexcept {
+  // After both sheets' nodes, one per weld.
+  return 1 + 2 * (lower_mesh_.node_count() + upper_mesh_.node_count()) + static_cast<Index>(weld);
+}
+
 double CalculixModel::free_shape(const CalculixParts& parts, SheetMetalPart part,
                                  Index node) const noexcept {
   return part == upper ? parts.upper(node) : parts.lower(node);
@@ -157,10 +162,9 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
       }
     }
   }
-  const Index first_aux = deck_node_count() - static_cast<Index>(layout_.welds.size()) + 1;
   for (std::size_t w = 0; w < layout_.welds.size(); ++w) {
-    append(out, "{}, {}, {}, 0\n", first_aux + static_cast<Index>(w),
-           ccx_number(layout_.welds[w].x()), ccx_number(layout_.welds[w].y()));
+    append(out, "{}, {}, {}, 0\n", weld_aux_node(w), ccx_number(layout_.welds[w].x()),
+           ccx_number(layout_.welds[w].y()));
   }
   Index element = 0;
   for (const SheetMetalPart part : {lower, upper}) {
@@ -181,7 +185,7 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
   // upper nodes dependent; the auxiliary node carries the gap the gun closes.
   out += "*EQUATION\n";
   for (std::size_t w = 0; w < layout_.welds.size(); ++w) {
-    const Index aux = first_aux + static_cast<Index>(w);
+    const Index aux = weld_aux_node(w);
     for (Index face = 0; face < 2; ++face) {
       append(out, "3\n{}, 3, 1., {}, 3, -1., {}, 3, -1.\n",
              deck_node(upper, upper_weld_nodes_[w], face),
@@ -228,9 +232,8 @@ void CalculixModel::write_fixture(std::string& out, const CalculixParts& parts,
     append(out, "{}, 1, 2\n{}, {}, {}\n", deck_node(part, pins.both, 0),
            deck_node(part, pins.one, 0), pins.direction, pins.direction);
   }
-  const Index first_aux = deck_node_count() - static_cast<Index>(layout_.welds.size()) + 1;
   for (std::size_t w = 0; w < layout_.welds.size(); ++w) {
-    append(out, "{}, 3, 3, {}\n", first_aux + static_cast<Index>(w),
+    append(out, "{}, 3, 3, {}\n", weld_aux_node(w),
            ccx_number(parts.lower(lower_weld_nodes_[w]) - parts.upper(upper_weld_nodes_[w])));
   }
 }

@@ -16,10 +16,8 @@ CalculixTwin linear_copy(const CalculixTwin& twin, std::vector<VectorX> upper,
   CalculixOptions options = twin.model().options();
   options.contact = false;
   options.geometric_nonlinearity = false;
-  SheetMetalLayout layout = twin.model().layout();
-  // The model refines the layout it is given; the twin's layout is already refined.
-  layout.element_size *= static_cast<double>(options.refinement);
-  return {std::move(layout), options, std::move(upper), std::move(lower)};
+  options.refinement = 1;  // the twin's layout is already on the refined grid
+  return {twin.model().layout(), options, std::move(upper), std::move(lower)};
 }
 
 }  // namespace
@@ -84,18 +82,13 @@ double InfluenceCoefficientTwin::quality(const AssemblyId& assembly,
 void InfluenceCoefficientTwin::quality_batch(const AssemblyId& assembly,
                                              const Eigen::Ref<const MatrixX>& controls,
                                              Eigen::Ref<VectorX> out) const {
-  require_dimension("controls (rows)", controls.rows(), control_dimension());
-  require_dimension("out", out.size(), controls.cols());
-  const VectorX y0 = unadjusted_deviations(assembly);
-  const MatrixX y = (influence_ * controls).colwise() + y0;
-  out = y.colwise().norm().transpose() / std::sqrt(static_cast<double>(y0.size()));
+  qualities_from(unadjusted_deviations(assembly), controls, out);
 }
 
 void InfluenceCoefficientTwin::quality_batch(const CalculixParts& parts,
                                              const Eigen::Ref<const MatrixX>& controls,
                                              Eigen::Ref<VectorX> out) const {
   require_dimension("controls (rows)", controls.rows(), control_dimension());
-  require_dimension("out", out.size(), controls.cols());
   VectorX y0(influence_.rows());
   const CalculixBatchSummary summary =
       linear_->key_deviations(parts, VectorX::Zero(control_dimension()), y0, "scanned parts");
@@ -105,6 +98,14 @@ void InfluenceCoefficientTwin::quality_batch(const CalculixParts& parts,
         "influence coefficients: the linear solve of scanned parts failed: " + summary.last_failure,
         "");
   }
+  qualities_from(y0, controls, out);
+}
+
+void InfluenceCoefficientTwin::qualities_from(const VectorX& y0,
+                                              const Eigen::Ref<const MatrixX>& controls,
+                                              Eigen::Ref<VectorX> out) const {
+  require_dimension("controls (rows)", controls.rows(), control_dimension());
+  require_dimension("out", out.size(), controls.cols());
   const MatrixX y = (influence_ * controls).colwise() + y0;
   out = y.colwise().norm().transpose() / std::sqrt(static_cast<double>(y0.size()));
 }

@@ -180,30 +180,26 @@ nlohmann::json answer(const twincal::CalculixTwin& twin,
       u(k, static_cast<Index>(c)) = controls[c][static_cast<std::size_t>(k)].get<double>();
   }
   twincal::CalculixParts parts;
-  std::string label;
+  std::optional<twincal::AssemblyId> id;
   if (assembly.contains("parts")) {
     const auto& model = twin.model();
     parts.upper = part_from_json(assembly.at("parts").at("upper"), "upper",
                                  model.mesh(twincal::SheetMetalPart::upper).node_count());
     parts.lower = part_from_json(assembly.at("parts").at("lower"), "lower",
                                  model.mesh(twincal::SheetMetalPart::lower).node_count());
-    label = "a scanned assembly";
   } else {
-    const twincal::AssemblyId id{assembly.at("upper").get<Index>(),
-                                 assembly.at("lower").get<Index>()};
-    parts = twin.parts(id);
-    label = fmt::format("assembly {}", id);
+    id = twincal::AssemblyId{assembly.at("upper").get<Index>(), assembly.at("lower").get<Index>()};
   }
   twincal::VectorX q(u.cols());
   if (influence != nullptr) {
-    if (assembly.contains("parts")) {
-      influence->quality_batch(parts, u, q);
+    if (id) {
+      influence->quality_batch(*id, u, q);
     } else {
-      influence->quality_batch(
-          twincal::AssemblyId{assembly.at("upper").get<Index>(), assembly.at("lower").get<Index>()},
-          u, q);
+      influence->quality_batch(parts, u, q);
     }
   } else {
+    if (id) parts = twin.parts(*id);
+    const std::string label = id ? fmt::format("assembly {}", *id) : "a scanned assembly";
     const twincal::CalculixBatchSummary summary = twin.evaluate(parts, u, q, label);
     if (!summary.failed.empty()) std::cerr << summary.last_failure << "\n";
   }

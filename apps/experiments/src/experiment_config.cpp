@@ -337,6 +337,13 @@ std::optional<std::string> episode_assemblies_problem(const ExperimentConfig& co
   return std::nullopt;
 }
 
+void require_episodes_fit(const ExperimentConfig& config) {
+  if (auto problem = episode_assemblies_problem(config)) {
+    throw InvalidArgumentError("assemblies",
+                               fmt::format("group \"{}\": {}", config.group_name(), *problem));
+  }
+}
+
 nlohmann::json episode_defining_json(const ExperimentConfig& config) {
   nlohmann::json json = config;
   json.erase("name");

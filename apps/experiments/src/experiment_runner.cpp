@@ -66,10 +66,7 @@ RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& 
   std::set<std::string> names;
   for (const ExperimentGroup& group : groups) {
     require_valid("config", group.config);
-    if (auto problem = episode_assemblies_problem(group.config)) {
-      throw InvalidArgumentError(
-          "assemblies", fmt::format("group \"{}\": {}", group.config.group_name(), *problem));
-    }
+    require_episodes_fit(group.config);
     const std::string name = group.config.group_name();
     if (!names.insert(name).second) {
       throw InvalidArgumentError(

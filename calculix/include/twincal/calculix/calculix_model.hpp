@@ -31,6 +31,7 @@
 /// column's result does not depend on the columns before it beyond the nonlinear solver's
 /// starting point.
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,7 @@ class CalculixModel {
 
  private:
   [[nodiscard]] Index deck_node(SheetMetalPart part, Index node, Index face) const noexcept;
+  [[nodiscard]] Index weld_aux_node(std::size_t weld) const noexcept;
   // The parts as placed in the fixture: the upper one lifted rigidly (a translation in z) until
   // no flange pair or weld starts interpenetrated.
   [[nodiscard]] CalculixParts placed(const CalculixParts& parts) const;

@@ -55,6 +55,10 @@ class InfluenceCoefficientTwin {
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const;
 
  private:
+  // Q = ‖y0 + B u‖/√m for every column u of `controls`.
+  void qualities_from(const VectorX& y0, const Eigen::Ref<const MatrixX>& controls,
+                      Eigen::Ref<VectorX> out) const;
+
   std::vector<std::string> locator_names_;
   VectorX lower_bounds_;
   VectorX upper_bounds_;

@@ -126,6 +126,9 @@ void from_json(const nlohmann::json& json, ExperimentConfig& config);
 /// any program starts. Not part of `validate()`: `twincal serve` takes the same config and has
 /// no episodes.
 [[nodiscard]] std::optional<std::string> episode_assemblies_problem(const ExperimentConfig& config);
+/// @throws InvalidArgumentError naming the group and the rule when episode_assemblies_problem
+///         finds one.
+void require_episodes_fit(const ExperimentConfig& config);
 
 /// The JSON of the fields that decide what one episode does: everything but `name`, `runs` and
 /// `controllers` (which say which episodes exist). Results are only reused under an equal one.
