@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <set>
 #include <string>
@@ -613,25 +614,41 @@ matplotlib); the script is $TWINCAL_PLOT_SCRIPT, else the installed or the sourc
 
 int history_command(std::span<const std::string> args) {
   constexpr const char* help = R"(usage: twincal history --db FILE [--out FILE.csv]
+       twincal history --db FILE --check
 
 Exports the history of a `twincal serve` session as CSV, one row per request: request_id,
 the assembly (upper, lower), proposed_at, observed_at, the measured quality, the twin's best
 quality z*, and per locator the control, the estimate after the observation and its standard
-deviation. `twincal plot --history FILE.csv` draws it. The database is only read (a running
-server may keep writing to it).
+deviation. `twincal plot --history FILE.csv` draws it. With --check, verifies the history
+instead: every row's checksum, and a replay of the whole session from its settings (the twin
+and controller rebuilt, every control, report, estimate and covariance compared bit for bit);
+prints what it verified, or the first damaged or mismatching row (exit 1). Either way the
+database is only read (a running server may keep writing to it).
 
   --db FILE              the session's database
   --out FILE.csv         where the CSV goes (default: standard output)
+  --check                verify the history instead of exporting it
 )";
-  Arguments arguments(args, {"help"});
+  Arguments arguments(args, {"help", "check"});
   if (wants_help(arguments, help)) return 0;
   const auto database = arguments.text("db");
   const auto out = arguments.text("out");
+  const bool check = arguments.flag("check");
   arguments.require_all_read();
   if (!database) {
     throw InvalidArgumentError("--db", "--db: is missing; rule: history needs a database");
   }
-  const HistoryStore store = HistoryStore::open(*database, Durability::normal);
+  if (check) {
+    if (out) {
+      throw InvalidArgumentError("--out", "--out: given with --check; rule: --check writes no CSV");
+    }
+    const HistoryCheck verified = ServeSession::check(*database);
+    fmt::print("{}: ok — {} requests and {} observations replayed bit for bit{}\n", *database,
+               verified.requests, verified.observations,
+               verified.pending ? "; the last request awaits its observation" : "");
+    return 0;
+  }
+  const HistoryStore store = HistoryStore::open_read_only(*database);
   if (!out) {
     write_history_csv(store, std::cout);
     return 0;
@@ -739,17 +756,20 @@ proposal and observation is in the database before its reply is sent; after a cr
     require_valid("--listen", options);
     listen = options;
   }
-  std::optional<ServeSession> session;
+  std::function<ServeSession()> open_session;
   if (arguments.flag("resume")) {
     arguments.require_all_read();  // the settings are the database's
-    session.emplace(ServeSession::resume(*database, durability));
-    const nlohmann::json state = session->state();
-    fmt::print(stderr, "twincal serve: resumed {}: {} observations{}\n", *database,
-               session->observed(),
-               state["pending"].is_null()
-                   ? std::string()
-                   : fmt::format(", request {} awaits its observation",
-                                 state["pending"]["request_id"].get<std::int64_t>()));
+    open_session = [&] {
+      ServeSession resumed = ServeSession::resume(*database, durability);
+      const nlohmann::json state = resumed.state();
+      fmt::print(stderr, "twincal serve: resumed {}: {} observations{}\n", *database,
+                 resumed.observed(),
+                 state["pending"].is_null()
+                     ? std::string()
+                     : fmt::format(", request {} awaits its observation",
+                                   state["pending"]["request_id"].get<std::int64_t>()));
+      return resumed;
+    };
   } else {
     ServeOptions options;
     options.config = read_config(arguments, {ControllerSpec::active()});
@@ -766,16 +786,22 @@ proposal and observation is in the database before its reply is sent; after a cr
     if (const auto v = arguments.integer("run")) options.run = *v;
     options.durability = durability;
     arguments.require_all_read();
-    session.emplace(ServeSession::start(options, *database));
+    require_valid("options", options);
+    open_session = [&, options] { return ServeSession::start(options, *database); };
   }
   // A client that disconnects mid-reply must end its connection, not the server.
   std::signal(SIGPIPE, SIG_IGN);
+  std::optional<ServeSession> session;
   if (listen) {
-    serve_tcp(*session, *listen, [&](int port) {
-      fmt::print(stderr, "twincal serve: listening on {}:{}\n", listen->host, port);
-      std::fflush(stderr);
-    });
+    // Bound before the session opens: a port in use leaves no new database behind.
+    serve_tcp(
+        *listen, [&]() -> ServeSession& { return session.emplace(open_session()); },
+        [&](int port) {
+          fmt::print(stderr, "twincal serve: listening on {}:{}\n", listen->host, port);
+          std::fflush(stderr);
+        });
   } else {
+    session.emplace(open_session());
     serve_stream(*session, STDIN_FILENO, STDOUT_FILENO);
   }
   return 0;

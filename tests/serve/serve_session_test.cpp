@@ -2,6 +2,9 @@
 
 #include <sqlite3.h>
 
+#include <fstream>
+#include <iterator>
+
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -135,6 +138,8 @@ TEST(ServeSession, AnswersEveryBadRequestWithAnErrorAndChangesNothing) {
   };
   const std::vector<Case> cases = {
       {"{not json", "line", "line: is not JSON"},
+      {"", "line", "line: is empty; rule: one JSON request (an object) per line"},
+      {" \t", "line", "line: is empty"},
       {"[1, 2]", "line", "line: is a JSON array; rule: a request is an object"},
       {R"({"assembly": 1})", "op", "op: is missing or not a string"},
       {R"({"op": "fly"})", "op", R"(op: is "fly"; rule: one of propose, observe, predict)"},
@@ -342,19 +347,23 @@ TEST(ServeSession, ResumesScannedPartsFromTheirRecordedOptimumWithoutSearchingAg
     ServeSession session = ServeSession::start(scanned_parts_options(), database.get());
     drive_scanned(session, 0, 4);
   }
-  // The recorded u0 of request 2 moved by 1e-6: a resume that searched again would not notice;
-  // one that takes the record replays to other controls and refuses the history.
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(database.get().c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db,
+  // The recorded u0 of request 2 moved by 1e-6: the row's checksum finds it; sealed again, a
+  // resume that searched again would not notice, one that takes the record replays to other
+  // controls and refuses the history.
+  testing::edit_database(database.get(),
                          "UPDATE proposals SET assembly = json_set(assembly, '$.optimum[0]', "
-                         "json_extract(assembly, '$.optimum[0]') + 1e-6) WHERE request_id = 2",
-                         nullptr, nullptr, nullptr),
-            SQLITE_OK);
-  sqlite3_close(db);
+                         "json_extract(assembly, '$.optimum[0]') + 1e-6) WHERE request_id = 2");
   try {
     (void)ServeSession::resume(database.get(), Durability::normal);
     FAIL() << "resumed a history whose recorded optimum was edited";
+  } catch (const HistoryDamageError& error) {
+    EXPECT_EQ(error.argument(), "checksum");
+    EXPECT_THAT(error.what(), HasSubstr("request 2: proposals.checksum is"));
+  }
+  testing::reseal_history(database.get());
+  try {
+    (void)ServeSession::resume(database.get(), Durability::normal);
+    FAIL() << "resumed a history whose recorded optimum was edited and sealed again";
   } catch (const HistoryMismatchError& error) {
     EXPECT_THAT(error.what(), HasSubstr("request 2 replays to another"));
   }
@@ -366,19 +375,68 @@ TEST(ServeSession, RefusesToResumeAHistoryThatDoesNotReplay) {
     ServeSession session = ServeSession::start(analytic_options("w=1"), database.get());
     drive(session, 0, 5);
   }
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(database.get().c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(
-      sqlite3_exec(db, "UPDATE observations SET quality = quality + 1e-9 WHERE request_id = 3",
-                   nullptr, nullptr, nullptr),
-      SQLITE_OK);
-  sqlite3_close(db);
+  testing::edit_database(database.get(),
+                         "UPDATE observations SET quality = quality + 1e-9 WHERE request_id = 3");
   try {
     (void)ServeSession::resume(database.get());
     FAIL() << "resumed a tampered history";
+  } catch (const HistoryDamageError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("request 3: observations.checksum is"));
+  }
+  testing::reseal_history(database.get());
+  try {
+    (void)ServeSession::resume(database.get());
+    FAIL() << "resumed a tampered history sealed again";
   } catch (const HistoryMismatchError& error) {
+    EXPECT_EQ(error.argument(), "estimate");
     EXPECT_THAT(error.what(), HasSubstr("request 3 replays to another estimate"));
   }
+}
+
+TEST(ServeSession, RefusesAHistoryWhoseReportDoesNotReplay) {
+  const TemporaryDatabase database;
+  {
+    ServeSession session = ServeSession::start(analytic_options("active"), database.get());
+    drive(session, 0, 4);
+  }
+  // z* of request 2's report, edited and sealed again: the controls replay, the report does not.
+  testing::edit_database(database.get(),
+                         "UPDATE proposals SET report = json_set(report, '$.optimal_quality', "
+                         "json_extract(report, '$.optimal_quality') * 2) WHERE request_id = 2");
+  testing::reseal_history(database.get());
+  try {
+    (void)ServeSession::resume(database.get(), Durability::normal);
+    FAIL() << "resumed a history whose report was edited";
+  } catch (const HistoryMismatchError& error) {
+    EXPECT_EQ(error.argument(), "report");
+    EXPECT_THAT(error.what(), HasSubstr("request 2 replays to another report"));
+  }
+}
+
+TEST(ServeSession, ChecksAHistoryWithoutWritingToIt) {
+  const TemporaryDatabase database;
+  {
+    ServeSession session = ServeSession::start(analytic_options("w=1"), database.get());
+    drive(session, 0, 6);
+    EXPECT_TRUE(call(session, {{"op", "propose"}, {"assembly", 3}})["ok"].get<bool>());
+    (void)call(session, {{"op", "checkpoint"}});
+  }
+  const auto bytes = [&] {
+    std::ifstream in(database.get(), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string before = bytes();
+  const HistoryCheck verified = ServeSession::check(database.get());
+  EXPECT_EQ(verified.requests, 7);
+  EXPECT_EQ(verified.observations, 6);
+  EXPECT_TRUE(verified.pending);
+  EXPECT_EQ(bytes(), before);
+
+  testing::edit_database(database.get(),
+                         "UPDATE observations SET quality = 0.5 WHERE request_id = 4");
+  EXPECT_THROW((void)ServeSession::check(database.get()), HistoryDamageError);
+  testing::reseal_history(database.get());
+  EXPECT_THROW((void)ServeSession::check(database.get()), HistoryMismatchError);
 }
 
 TEST(ServeSession, RefusesInvalidOptionsBeforeCreatingTheDatabase) {

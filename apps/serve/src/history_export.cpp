@@ -53,7 +53,7 @@ void write_history_csv(const HistoryStore& store, std::ostream& out) {
   }
   out << '\n';
   const std::size_t d = names.size();
-  for (const HistoryRecord& record : store.records()) {
+  store.for_each_record(1, [&](const HistoryRecord& record) {
     out << record.request_id << ',' << assembly_fields(record.assembly) << ',' << record.proposed_at
         << ',' << record.observed_at << ','
         << (record.quality ? json(*record.quality).dump() : std::string()) << ','
@@ -70,7 +70,7 @@ void write_history_csv(const HistoryStore& store, std::ostream& out) {
       out << ',' << sd;
     }
     out << '\n';
-  }
+  });
 }
 
 }  // namespace twincal

@@ -67,8 +67,8 @@ bool same_secret(std::string_view given, std::string_view expected) noexcept {
 // buffers (ListenOptions' limits).
 class TcpServer {
  public:
-  TcpServer(ServeSession& session, const ListenOptions& options)
-      : acceptor_(io_), session_(session), options_(options) {
+  // Binds and listens; run() serves a session.
+  explicit TcpServer(const ListenOptions& options) : acceptor_(io_), options_(options) {
     const tcp::endpoint endpoint(asio::ip::make_address_v4(options.host),
                                  static_cast<unsigned short>(options.port));
     error_code error;
@@ -85,7 +85,8 @@ class TcpServer {
   [[nodiscard]] int port() const { return acceptor_.local_endpoint().port(); }
 
   // Until a shutdown request's reply is written; rethrows HistoryStoreError.
-  void run() {
+  void run(ServeSession& session) {
+    session_ = &session;
     accept();
     io_.run();
   }
@@ -95,7 +96,7 @@ class TcpServer {
 
   void accept() {
     acceptor_.async_accept([this](const error_code& error, tcp::socket socket) {
-      if (session_.finished()) return;
+      if (session_->finished()) return;
       if (!error) admit(std::move(socket));
       accept();
     });
@@ -105,7 +106,7 @@ class TcpServer {
 
   asio::io_context io_;
   tcp::acceptor acceptor_;
-  ServeSession& session_;
+  ServeSession* session_ = nullptr;  // set by run()
   ListenOptions options_;
   int open_ = 0;
 };
@@ -139,7 +140,7 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
       return;
     }
     arm_timer();
-    ServeSession& session = server_.session_;
+    ServeSession& session = *server_.session_;
     splitter_.feed(
         std::string_view(chunk_.data(), bytes),
         [&](std::string_view line) {
@@ -216,7 +217,7 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
     out_.pop_front();
     if (!out_.empty()) {
       write();
-    } else if (server_.session_.finished()) {
+    } else if (server_.session_->finished()) {
       server_.io_.stop();  // the shutdown reply is out
     } else if (!reading_) {
       close();
@@ -319,12 +320,18 @@ std::optional<std::string> ListenOptions::validate() const {
   return std::nullopt;
 }
 
-void serve_tcp(ServeSession& session, const ListenOptions& options,
+void serve_tcp(const ListenOptions& options, const std::function<ServeSession&()>& open_session,
                const std::function<void(int port)>& on_listening) {
   require_valid("listen", options);
-  TcpServer server(session, options);
+  TcpServer server(options);
+  ServeSession& session = open_session();
   on_listening(server.port());
-  server.run();
+  server.run(session);
+}
+
+void serve_tcp(ServeSession& session, const ListenOptions& options,
+               const std::function<void(int port)>& on_listening) {
+  serve_tcp(options, [&]() -> ServeSession& { return session; }, on_listening);
 }
 
 }  // namespace twincal

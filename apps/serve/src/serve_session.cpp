@@ -56,6 +56,19 @@ void require_keys(const json& request, std::string_view op,
   }
 }
 
+// Whether a recomputed report is the recorded one: u0, z*, δû and σ bit for bit. Its
+// twin_evaluations is a cost, not a result (a resume from a snapshot searches u0 again where the
+// recorded run had it cached); the row's checksum covers it.
+bool same_report(const json& recomputed, const json& recorded) {
+  if (!recomputed.is_object() || !recorded.is_object()) return recomputed == recorded;
+  for (const auto& [key, value] : recomputed.items()) {
+    if (key == "twin_evaluations") continue;
+    const auto it = recorded.find(key);
+    if (it == recorded.end() || *it != value) return false;
+  }
+  return recomputed.size() == recorded.size();
+}
+
 ExperimentConfig settings_config(const json& settings) {
   return json::parse(settings.at("config").get<std::string>()).get<ExperimentConfig>();
 }
@@ -97,23 +110,32 @@ ServeSession ServeSession::start(const ServeOptions& options,
   return {options, std::move(twin), std::move(store)};
 }
 
-ServeSession ServeSession::resume(const std::filesystem::path& database, Durability durability) {
-  HistoryStore store = HistoryStore::open(database, durability);
+ServeSession ServeSession::from_settings(HistoryStore store, Durability durability) {
   const json settings = store.settings();
+  const std::string database = store.path().string();
   ServeOptions options;
   try {
     options.config = settings_config(settings);
     options.controller = ControllerSpec::parse(settings.at("controller").get<std::string>());
     options.run = std::stoll(settings.at("run").get<std::string>());
   } catch (const std::exception& error) {
-    throw HistoryStoreError(database.string(), fmt::format("{}: its settings cannot be read ({})",
-                                                           database.string(), error.what()));
+    throw HistoryStoreError(
+        database, fmt::format("{}: its settings cannot be read ({})", database, error.what()));
   }
   options.durability = durability;
-  ServeSession session(options, std::make_unique<CaseTwin>(make_case_twin(options.config)),
-                       std::move(store));
+  return {options, std::make_unique<CaseTwin>(make_case_twin(options.config)), std::move(store)};
+}
+
+ServeSession ServeSession::resume(const std::filesystem::path& database, Durability durability) {
+  ServeSession session = from_settings(HistoryStore::open(database, durability), durability);
   session.replay();
   return session;
+}
+
+HistoryCheck ServeSession::check(const std::filesystem::path& database) {
+  ServeSession session = from_settings(HistoryStore::open_read_only(database), Durability::full);
+  session.replay();
+  return {session.next_request_ - 1, session.observed_, session.pending_.has_value()};
 }
 
 std::string ServeSession::oversized_reply(std::size_t bytes) {
@@ -124,6 +146,10 @@ std::string ServeSession::oversized_reply(std::size_t bytes) {
 
 std::string ServeSession::handle(std::string_view line) {
   if (line.size() > max_line_bytes) return oversized_reply(line.size());
+  if (line.find_first_not_of(" \t\r") == std::string_view::npos) {
+    return line_of(error_reply(nullptr, "line",
+                               "line: is empty; rule: one JSON request (an object) per line"));
+  }
   json request;
   try {
     require_json_nesting(line, "line");
@@ -395,16 +421,22 @@ json ServeSession::state() const {
 }
 
 void ServeSession::replay() {
-  const std::vector<HistoryRecord> records = store_.records();
-  for (std::size_t r = 0; r < records.size(); ++r) {
-    const HistoryRecord& record = records[r];
+  const std::string database = store_.path().string();
+  std::int64_t unobserved = 0;  // a request without its observation, which must be the last
+  store_.for_each_record(next_request_, [&](const HistoryRecord& record) {
     const auto mismatch = [&](std::string_view what) {
       return HistoryMismatchError(
-          store_.path().string(),
+          std::string(what),
           fmt::format("{}: request {} replays to another {} than the one recorded; rule: a "
                       "history resumes with the twincal build that wrote it",
-                      store_.path().string(), record.request_id, what));
+                      database, record.request_id, what));
     };
+    if (unobserved != 0) {
+      throw HistoryMismatchError(
+          "observation", fmt::format("{}: request {} has no observation, yet request {} follows; "
+                                     "rule: the cell observes one request before the next",
+                                     database, unobserved, record.request_id));
+    }
     if (record.request_id != next_request_) throw mismatch("request_id");
     AssemblyId assembly;
     try {
@@ -418,17 +450,18 @@ void ServeSession::replay() {
     }
     const json reply = make_proposal(record.request_id, assembly, record.assembly);
     if (reply["control"] != record.control) throw mismatch("control");
+    if (!same_report(reply["report"], record.report)) throw mismatch("report");
     ++next_request_;
     if (!record.quality) {
-      if (r + 1 != records.size()) throw mismatch("observation (none, yet later requests exist)");
+      unobserved = record.request_id;
       pending_ = Pending{record.request_id, assembly, record.assembly, control_, reply};
-      continue;
+      return;
     }
     controller_.observe(assembly, control_, *record.quality);
     if (estimate_json() != record.estimate) throw mismatch("estimate");
     if (covariance_json() != record.covariance) throw mismatch("covariance");
     ++observed_;
-  }
+  });
 }
 
 void ServeSession::require_sound_state(double quality) const {

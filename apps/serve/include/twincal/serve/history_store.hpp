@@ -2,28 +2,43 @@
 /// @file
 /// `HistoryStore`: the SQLite database of a `twincal serve` session — its settings, every
 /// proposal and every observation with the controller's estimate δû_t and covariance P_t after
-/// it (eq. 8) — written before the server replies, so that a session killed at any moment
-/// resumes from the database alone (serve_session.hpp replays it).
+/// it (eq. 8), and snapshots of the controller — written before the server replies, so that a
+/// session killed at any moment resumes from the database alone (serve_session.hpp replays it).
 ///
 /// Durability: WAL journal, one transaction per record, `synchronous = FULL` by default (a
 /// record survives a power cut; `NORMAL` survives a killed process only and costs no fsync per
-/// record). Doubles are stored as JSON text in nlohmann's shortest round-trip form, so a replay
-/// can compare the controls and estimates it recomputes with the recorded ones bit for bit, and
+/// record). After each commit the database file and its write-ahead log are checked to be the
+/// files the store opened: a log deleted or replaced under a running server would take the
+/// records with it, so the store throws instead of letting the server answer "ok". Doubles are
+/// stored as JSON text in nlohmann's shortest round-trip form, so a replay can compare the
+/// controls and estimates it recomputes with the recorded ones bit for bit, and
 /// `sqlite3 DB 'select * from observations'` shows numbers a person can read.
 ///
-/// Tables (docs/serve.md):
+/// Integrity: every proposal, observation and snapshot row carries the CRC-32 (Boost.CRC) of
+/// its columns, checked whenever it is read: a damaged row is refused with a HistoryDamageError
+/// naming the database, the request and the column. The checksum finds damage (a flipped bit,
+/// an edit by hand); it does not stop someone who recomputes it.
+///
+/// Tables (docs/serve.md), format 2:
 ///   settings(key TEXT PRIMARY KEY, value TEXT)           — "format", "config", "controller", …
 ///   proposals(request_id INTEGER PRIMARY KEY, assembly TEXT, control TEXT, report TEXT,
-///             proposed_at TEXT)
+///             proposed_at TEXT, checksum INTEGER)
 ///   observations(request_id INTEGER PRIMARY KEY REFERENCES proposals, quality REAL,
-///                estimate TEXT, covariance TEXT, observed_at TEXT)
+///                estimate TEXT, covariance TEXT, observed_at TEXT, checksum INTEGER)
+///   snapshots(request_id INTEGER PRIMARY KEY REFERENCES observations, state TEXT,
+///             checksum INTEGER)
+/// A format-1 history (no checksums, no snapshots; written before 2026-11-26) is read as it is
+/// and upgraded in place, in one transaction, when it is opened to be written.
 
 #include <cstdint>
 #include <filesystem>
-#include <memory>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include <sys/types.h>
 
 #include <nlohmann/json.hpp>
 
@@ -33,11 +48,19 @@ struct sqlite3;
 
 namespace twincal {
 
-/// A database that cannot be opened, created, read or written, or that is not a twincal serve
-/// history; the message names the file and what SQLite said.
+/// A database that cannot be opened, created, read or written, that is not a twincal serve
+/// history, or whose files changed under the store; the message names the file and what SQLite
+/// or the file system said.
 class HistoryStoreError : public Error {
  public:
   using Error::Error;
+};
+
+/// A row of the history that does not read back as it was written: its checksum differs, a JSON
+/// column does not parse, or the requests are not numbered 1, 2, …; argument() is the column.
+class HistoryDamageError : public HistoryStoreError {
+ public:
+  using HistoryStoreError::HistoryStoreError;
 };
 
 enum class Durability { full, normal };
@@ -55,6 +78,12 @@ struct HistoryRecord {
   std::string observed_at;        ///< UTC, ISO 8601; empty before the observation
 };
 
+/// The controller's state after the observation of `request_id` (serve_session.hpp).
+struct HistorySnapshot {
+  std::int64_t request_id = 0;
+  nlohmann::json state;
+};
+
 class HistoryStore {
  public:
   /// Creates a new database at `path` holding `settings` (an object of strings).
@@ -62,10 +91,17 @@ class HistoryStore {
   [[nodiscard]] static HistoryStore create(const std::filesystem::path& path,
                                            const nlohmann::json& settings,
                                            Durability durability = Durability::full);
-  /// Opens an existing history.
-  /// @throws HistoryStoreError when `path` is missing or not a twincal serve history.
+  /// Opens an existing history to append to it. Refused, before anything is written to the
+  /// file: a missing file, one that is not a twincal serve history (of format 1 or 2), a
+  /// database or directory this process cannot write, a file system that does not keep a
+  /// write-ahead log.
+  /// @throws HistoryStoreError.
   [[nodiscard]] static HistoryStore open(const std::filesystem::path& path,
                                          Durability durability = Durability::full);
+  /// Opens an existing history only to read it (export, check): writes nothing, so it also
+  /// reads the history of a running server.
+  /// @throws HistoryStoreError.
+  [[nodiscard]] static HistoryStore open_read_only(const std::filesystem::path& path);
 
   HistoryStore(HistoryStore&&) noexcept;
   HistoryStore& operator=(HistoryStore&&) noexcept;
@@ -76,8 +112,15 @@ class HistoryStore {
   [[nodiscard]] const std::filesystem::path& path() const noexcept { return path_; }
   /// The settings given to create().
   [[nodiscard]] nlohmann::json settings() const;
-  /// Every record, in request order.
+  /// Calls `visit` with every record from request `first` on, in request order, one at a time
+  /// (a long history is never held in memory). @throws HistoryDamageError for a damaged row (the
+  /// records before it have been visited); what `visit` throws.
+  void for_each_record(std::int64_t first,
+                       const std::function<void(const HistoryRecord&)>& visit) const;
+  /// Every record, in request order (for_each_record into a vector).
   [[nodiscard]] std::vector<HistoryRecord> records() const;
+  /// The number of proposals.
+  [[nodiscard]] std::int64_t record_count() const;
 
   /// Inserts a proposal (one transaction). @throws HistoryStoreError (nothing written).
   void record_proposal(std::int64_t request_id, const nlohmann::json& assembly,
@@ -86,21 +129,61 @@ class HistoryStore {
   /// @throws HistoryStoreError (nothing written).
   void record_observation(std::int64_t request_id, double quality, const nlohmann::json& estimate,
                           const nlohmann::json& covariance);
+  /// Inserts the controller's state after the observation of `request_id` (one transaction).
+  /// @throws HistoryStoreError (nothing written).
+  void record_snapshot(std::int64_t request_id, const nlohmann::json& state);
+  /// The snapshot of the highest request, if any. @throws HistoryDamageError.
+  [[nodiscard]] std::optional<HistorySnapshot> last_snapshot() const;
+  /// Every snapshot's request, ascending.
+  [[nodiscard]] std::vector<std::int64_t> snapshot_requests() const;
+  /// The snapshot after `request_id`. @throws HistoryStoreError when there is none;
+  /// HistoryDamageError.
+  [[nodiscard]] HistorySnapshot snapshot(std::int64_t request_id) const;
+
+  /// The checksum column of a proposals row and of an observations row: the CRC-32 of the
+  /// request id and the columns' stored text (the quality in its shortest round-trip form), each
+  /// followed by 0x1f. What a tool that edits a history on purpose must write.
+  [[nodiscard]] static std::int64_t proposal_checksum(std::int64_t request_id,
+                                                      std::string_view assembly,
+                                                      std::string_view control,
+                                                      std::string_view report,
+                                                      std::string_view proposed_at);
+  [[nodiscard]] static std::int64_t observation_checksum(std::int64_t request_id, double quality,
+                                                         std::string_view estimate,
+                                                         std::string_view covariance,
+                                                         std::string_view observed_at);
 
   /// Moves the write-ahead log into the database file (PRAGMA wal_checkpoint(TRUNCATE)), e.g.
   /// before copying the file; returns the database's size in bytes.
   std::uintmax_t checkpoint();
 
-  /// The current format; a history of another format is refused by open().
-  static constexpr int format = 1;
+  /// The current format; open() reads this one and format 1.
+  static constexpr int format = 2;
 
  private:
+  // The identity of a file the store writes: a file replaced or deleted has another (or none).
+  struct FileIdentity {
+    dev_t device = 0;
+    ino_t inode = 0;
+    friend bool operator==(const FileIdentity&, const FileIdentity&) = default;
+  };
+
   HistoryStore(std::filesystem::path path, sqlite3* db) noexcept;
   void configure(Durability durability) const;
   void execute(const char* sql) const;
+  [[nodiscard]] int stored_format() const;
+  void upgrade_from_format_1();
+  // Records the identities of the database and its log (after the log exists).
+  void watch_files();
+  // After a commit: the database and its log are still the files watch_files() saw.
+  // @throws HistoryStoreError naming the file that changed.
+  void require_same_files() const;
 
   std::filesystem::path path_;
   sqlite3* db_ = nullptr;
+  bool checksums_ = true;  // false for a format-1 history opened read-only
+  std::optional<FileIdentity> database_identity_;
+  std::optional<FileIdentity> log_identity_;
 };
 
 }  // namespace twincal

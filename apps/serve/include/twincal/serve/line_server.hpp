@@ -50,4 +50,9 @@ struct ListenOptions {
 void serve_tcp(ServeSession& session, const ListenOptions& options,
                const std::function<void(int port)>& on_listening);
 
+/// serve_tcp with the session opened by `open_session` once the socket is bound, so that a port
+/// in use leaves no new database behind (`twincal serve --listen`).
+void serve_tcp(const ListenOptions& options, const std::function<ServeSession&()>& open_session,
+               const std::function<void(int port)>& on_listening);
+
 }  // namespace twincal

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// `LineSplitter`: cuts a byte stream into request lines for `twincal serve`'s transports. A line
-/// is what ends in '\n' (a trailing '\r' dropped; empty lines skipped); one longer than
+/// is what ends in '\n' (a trailing '\r' dropped; an empty line is a line too, and
+/// gets its error reply, so a client waiting for one does not hang); one longer than
 /// ServeSession::max_line_bytes is skipped up to its newline without being held in memory and
 /// reported by its size. An unterminated last line is not a request.
 
@@ -38,7 +39,7 @@ class LineSplitter {
         continue;
       }
       if (!line_.empty() && line_.back() == '\r') line_.pop_back();
-      if (!line_.empty()) on_line(std::string_view(line_));
+      on_line(std::string_view(line_));
       line_.clear();
     }
   }

@@ -59,6 +59,13 @@ class HistoryMismatchError : public Error {
   using Error::Error;
 };
 
+/// What ServeSession::check() verified of a history.
+struct HistoryCheck {
+  std::int64_t requests = 0;      ///< proposals replayed
+  std::int64_t observations = 0;  ///< observations replayed
+  bool pending = false;           ///< the last request awaits its observation
+};
+
 class ServeSession {
  public:
   /// A line longer than this (without its newline) is refused unread.
@@ -77,6 +84,12 @@ class ServeSession {
   /// @throws HistoryStoreError; HistoryMismatchError.
   [[nodiscard]] static ServeSession resume(const std::filesystem::path& database,
                                            Durability durability = Durability::full);
+
+  /// Replays the whole history of `database` without writing to it (a running server's too),
+  /// checking every row's checksum and every recomputed control, report, estimate and
+  /// covariance bit for bit: what `twincal history --check` runs.
+  /// @throws HistoryStoreError (HistoryDamageError for a damaged row); HistoryMismatchError.
+  [[nodiscard]] static HistoryCheck check(const std::filesystem::path& database);
 
   /// One request line → one reply line (without newline). @throws HistoryStoreError when the
   /// database cannot be written: the session must then stop (resume() continues from what the
@@ -111,6 +124,8 @@ class ServeSession {
 
   // Builds the controller over `twin`, which stays where it is: the controller refers to it.
   ServeSession(ServeOptions options, std::unique_ptr<CaseTwin> twin, HistoryStore store);
+  // The session of `store`, built from its settings, nothing replayed yet.
+  [[nodiscard]] static ServeSession from_settings(HistoryStore store, Durability durability);
 
   // The reply to a request of `op` (a known or unknown operation). @throws Error.
   [[nodiscard]] nlohmann::json dispatch(const std::string& op, const nlohmann::json& request);
