@@ -204,15 +204,14 @@ RunOptions read_run_options(Arguments& arguments) {
 // a twin that is a program is not started (its locators come from its config), so checking an
 // untrusted config executes none of it.
 int list_study(const std::vector<ExperimentGroup>& groups) {
+  const Index planned = require_study_fits(groups);  // the real run's checks and limits
   std::vector<ExperimentGroup> built;  // the groups whose twins are built to resolve locators
   for (const ExperimentGroup& group : groups) {
-    require_valid(fmt::format("group \"{}\"", group.config.group_name()), group.config);
-    require_episodes_fit(group.config);
     if (group.config.twin_case != TwinCase::external) built.push_back(group);
   }
   const std::vector<CaseTwin> twins = make_case_twins(built);
-  Index episodes = 0;
   std::size_t next_built = 0;
+  std::vector<std::string> lines;
   for (const ExperimentGroup& group : groups) {
     const ExperimentConfig& config = group.config;
     std::vector<std::string> names;
@@ -223,15 +222,19 @@ int list_study(const std::vector<ExperimentGroup>& groups) {
         names.push_back(all[static_cast<std::size_t>(i)]);
       }
     } else {
-      names = twins[next_built++].locator_names();
+      const CaseTwin& twin = twins[next_built++];
+      require_twin_has_assemblies(config, twin);
+      names = twin.locator_names();
     }
     const Index count = config.runs * std::ssize(config.controllers);
-    episodes += count;
-    fmt::print("{}: locators [{}], {} runs x {} controllers = {} episodes of {} assemblies\n",
-               config.group_name(), fmt::join(names, ", "), config.runs, config.controllers.size(),
-               count, config.assemblies);
+    lines.push_back(
+        fmt::format("{}: locators [{}], {} runs x {} controllers = {} episodes of {} assemblies\n",
+                    config.group_name(), fmt::join(names, ", "), config.runs,
+                    config.controllers.size(), count, config.assemblies));
   }
-  fmt::print("{} groups, {} episodes\n", groups.size(), episodes);
+  // Printed once every group passed, as the real run refuses before running any.
+  for (const std::string& line : lines) fmt::print("{}", line);
+  fmt::print("{} groups, {} episodes\n", groups.size(), planned);
   return 0;
 }
 

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "twincal/core/error.hpp"
@@ -42,6 +43,83 @@ std::string runner_timeless(const fs::path& path) {
   const std::string s =
       path.extension() == ".csv" ? std::regex_replace(text.str(), csv_seconds, "\n") : text.str();
   return std::regex_replace(s, json_seconds, "");
+}
+
+// A group on tests/data/batch_crashing_twin.py (its u0 search works, every batch crashes it).
+ExperimentGroup batch_crashing_group(std::vector<ControllerSpec> controllers) {
+  ExperimentGroup group;
+  group.config.twin_case = TwinCase::external;
+  ExternalTwinSettings settings;
+  settings.command = {"python3", TWINCAL_TEST_DATA_DIR "/batch_crashing_twin.py"};
+  settings.locators = {"A", "B", "C"};
+  settings.lower_bounds = {-1.0, -1.0, -1.0};
+  settings.upper_bounds = {1.0, 1.0, 1.0};
+  settings.upper_parts = 2;
+  settings.lower_parts = 2;
+  settings.workers = 1;
+  settings.optimum_global_evaluations = 60;
+  settings.optimum_local_evaluations = 60;
+  group.config.external_twin = settings;
+  group.config.locators = "all";
+  group.config.runs = 4;
+  group.config.assemblies = 3;
+  group.config.controllers = std::move(controllers);
+  return group;
+}
+
+// The message of the TwinFailureError that running `groups` into `store` throws.
+std::string twin_failure_message(const std::vector<ExperimentGroup>& groups, ResultStore& store) {
+  try {
+    (void)run_experiments(groups, store, RunOptions{.threads = 1, .progress = false});
+  } catch (const TwinFailureError& error) {
+    return error.what();
+  }
+  return "(no TwinFailureError)";
+}
+
+TEST(RunExperiments, StoresNoEpisodeWhoseTwinFailedAndGivesUpATwinAfterTwoInARow) {
+  const fs::path out = runner_scratch("twin_failures");
+  ResultStore store(out);
+  // w=1 sends batches: each of its episodes fails. Alone in its group, its twin is given up after
+  // two; the analytic group beside it runs to the end.
+  const std::vector<ExperimentGroup> groups = {
+      batch_crashing_group({ControllerSpec::lookahead(1.0)}), runner_group(1)};
+  const std::string message = twin_failure_message(groups, store);
+  EXPECT_THAT(message, ::testing::HasSubstr(
+                           "group \"external/all\": its twin failed in 2 episode(s), then 2 "
+                           "episode(s) were not started (two failures in a row); the first: w=1 "
+                           "run 0 step 0: twin: external twin crashed"));
+  EXPECT_THAT(message, ::testing::HasSubstr("(4 stored)"));
+  EXPECT_EQ(store.episodes().size(), 4U);  // the analytic group's four controllers
+  for (const auto& episode : store.episodes()) EXPECT_NE(episode["group"], "external/all");
+
+  // Between successes the failures are not in a row: every episode runs, none of w=1's is stored.
+  ResultStore alternating(runner_scratch("twin_failures_alternating"));
+  const std::string again = twin_failure_message(
+      {batch_crashing_group({ControllerSpec::lookahead(1.0), ControllerSpec::baseline()})},
+      alternating);
+  EXPECT_THAT(again, ::testing::HasSubstr("its twin failed in 4 episode(s); the first: w=1 run 0"));
+  EXPECT_THAT(again, ::testing::Not(::testing::HasSubstr("not started")));
+  EXPECT_EQ(alternating.episodes().size(), 4U);
+  for (const auto& episode : alternating.episodes()) EXPECT_EQ(episode["controller"], "baseline");
+}
+
+TEST(RunExperiments, RefusesAStudyOfMoreEpisodesThanTheLimitBeforeRunningAny) {
+  ExperimentGroup big = runner_group(ExperimentConfig::max_runs);  // 4 controllers
+  try {
+    (void)require_study_fits(std::vector<ExperimentGroup>{big});
+    FAIL() << "planned 4 000 000 episodes";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_EQ(error.argument(), "episodes");
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("episodes: the study plans 4000000 or more"));
+  }
+  ExperimentGroup half = runner_group(ExperimentConfig::max_runs / 4);
+  EXPECT_EQ(require_study_fits(std::vector<ExperimentGroup>{half}), max_study_episodes);
+  half.config.name = "second";
+  ExperimentGroup one = runner_group(1);
+  one.config.name = "one";
+  EXPECT_THROW((void)require_study_fits(std::vector<ExperimentGroup>{half, one}),
+               InvalidArgumentError);
 }
 
 TEST(RunExperiments, ResultsDoNotDependOnTheThreadCount) {

@@ -251,6 +251,16 @@ TEST(ExternalTwinSettings, RoundTripsThroughJsonAndRefusesUnknownKeys) {
     EXPECT_THAT(error.what(), HasSubstr("key \"external_twin.comand\" is unknown"));
   }
   EXPECT_THROW(from_json(nlohmann::json{{"workers", "four"}}, read), InvalidArgumentError);
+  // The start-up grace is a setting (a solver that loads a model before its first reply).
+  from_json(nlohmann::json{{"startup_grace_ms", 60000}}, read);
+  EXPECT_EQ(read.startup_grace_ms, 60000);
+  EXPECT_EQ(nlohmann::json(read)["startup_grace_ms"], 60000);
+  ExternalTwinSettings impatient = minimal_twin(1);
+  ASSERT_FALSE(impatient.validate().has_value());
+  impatient.startup_grace_ms = -1;
+  ASSERT_TRUE(impatient.validate().has_value());
+  EXPECT_THAT(*impatient.validate(),
+              HasSubstr("external_twin.startup_grace_ms is -1; rule: must be >= 0"));
 }
 
 }  // namespace

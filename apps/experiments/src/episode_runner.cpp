@@ -14,6 +14,7 @@
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/stopwatch.hpp"
+#include "twincal/external/external_twin.hpp"
 #include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
 #include "twincal/filters/julier_sigma_points.hpp"
 #include "twincal/filters/merwe_scaled_sigma_points.hpp"
@@ -173,6 +174,11 @@ void simulate(AnyController& controller, const EpisodeSetup& setup,
           static_cast<double>(CaseTwin::evaluations_on_this_thread() - evaluations_before);
       result.seconds(t) = elapsed;
     } catch (const std::exception& failure) {
+      if (caused_by_twin_failure(failure)) {
+        // Not the controller's doing: no result (the study runs the episode again later).
+        throw TwinFailureError("twin", fmt::format("{} run {} step {}: {}", result.controller,
+                                                   result.run, t, failure.what()));
+      }
       // A controller that cannot go on (a non-finite estimate, a covariance that cannot be
       // factored) has lost the offset as surely as a diverged one.
       result.failure = failure.what();
@@ -235,6 +241,17 @@ AnyController make_episode_controller(const CaseTwin& twin, const ExperimentConf
                                       const ControllerSpec& controller, Index run) {
   detail::require_runnable(twin, config, controller, run);
   return detail::make_controller(detail::episode_setup(twin, config, run), controller);
+}
+
+bool caused_by_twin_failure(const std::exception& error) {
+  if (dynamic_cast<const ExternalTwinError*>(&error) != nullptr) return true;
+  try {
+    std::rethrow_if_nested(error);
+  } catch (const std::exception& nested) {
+    return caused_by_twin_failure(nested);
+  } catch (...) {
+  }
+  return false;
 }
 
 EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,

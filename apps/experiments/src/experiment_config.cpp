@@ -354,6 +354,7 @@ nlohmann::json episode_defining_json(const ExperimentConfig& config) {
     if (json.contains(program) && json[program].is_object()) {
       json[program].erase("workers");
       json[program].erase("timeout_ms");
+      json[program].erase("startup_grace_ms");
     }
   }
   // An unset σz² and its case default give the same episodes.

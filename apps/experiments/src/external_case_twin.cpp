@@ -30,6 +30,7 @@ ExternalTwinPoolOptions pool_options(const ExternalTwinSettings& settings) {
   options.twin.upper_bounds =
       Eigen::Map<const VectorX>(settings.upper_bounds.data(), std::ssize(settings.upper_bounds));
   options.twin.timeout = std::chrono::milliseconds{settings.timeout_ms};
+  options.twin.startup_grace = std::chrono::milliseconds{settings.startup_grace_ms};
   options.workers = settings.workers;
   return options;
 }

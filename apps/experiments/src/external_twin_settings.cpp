@@ -63,6 +63,10 @@ std::optional<std::string> ExternalTwinSettings::validate() const {
   if (timeout_ms < 1) {
     return fmt::format("external_twin.timeout_ms is {}; rule: must be >= 1", timeout_ms);
   }
+  if (startup_grace_ms < 0) {
+    return fmt::format("external_twin.startup_grace_ms is {}; rule: must be >= 0",
+                       startup_grace_ms);
+  }
   return std::nullopt;
 }
 
@@ -75,6 +79,7 @@ void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {
           {"lower_parts", settings.lower_parts},
           {"workers", settings.workers},
           {"timeout_ms", settings.timeout_ms},
+          {"startup_grace_ms", settings.startup_grace_ms},
           {"optimum_global_evaluations", settings.optimum_global_evaluations},
           {"optimum_local_evaluations", settings.optimum_local_evaluations},
           {"optimum_budget", settings.optimum_budget}};
@@ -119,6 +124,8 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
         read.workers = strict_value<Index>(value, field);
       } else if (key == "timeout_ms") {
         read.timeout_ms = strict_value<Index>(value, field);
+      } else if (key == "startup_grace_ms") {
+        read.startup_grace_ms = strict_value<Index>(value, field);
       } else if (key == "optimum_global_evaluations") {
         read.optimum_global_evaluations = strict_value<Index>(value, field);
       } else if (key == "optimum_local_evaluations") {
@@ -129,7 +136,7 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
         throw InvalidArgumentError(
             field, fmt::format("config: key \"{}\" is unknown; rule: must be one of [command, "
                                "locators, lower_bounds, upper_bounds, upper_parts, lower_parts, "
-                               "workers, timeout_ms, optimum_global_evaluations, "
+                               "workers, timeout_ms, startup_grace_ms, optimum_global_evaluations, "
                                "optimum_local_evaluations, optimum_budget]",
                                field));
       }

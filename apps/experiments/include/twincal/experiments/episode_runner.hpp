@@ -12,7 +12,10 @@
 ///   "candidates" (the sampler's seed).
 /// Non-estimating controllers (baseline, nominal) assume a calibrated twin: δû_t = 0.
 
+#include <exception>
+
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
 #include "twincal/experiments/any_controller.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/controller_spec.hpp"
@@ -21,11 +24,24 @@
 
 namespace twincal {
 
+/// An episode that could not go on because its twin (or plant) program failed — it crashed, hung
+/// or answered garbage again after the pool's retry (ExternalTwinError, docs/external.md). Not
+/// a result of the controller: run_experiments does not store the episode (a rerun runs it
+/// again) and stops asking a group's twin after two such episodes in a row.
+class TwinFailureError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Whether `error` is, or nests, an external twin's failure (ExternalTwinError).
+[[nodiscard]] bool caused_by_twin_failure(const std::exception& error);
+
 /// Runs episode (`controller`, `run`) of `config` on `twin` (which must be
 /// make_case_twin(config) or equivalent). Deterministic: the same arguments give the same result
 /// (apart from the wall times) on any thread.
-/// @throws InvalidArgumentError for an invalid config or run < 0; errors inside the episode are
-///         recorded in EpisodeResult::failure instead.
+/// @throws InvalidArgumentError for an invalid config or run < 0; TwinFailureError (naming the
+///         controller, the run and the step) when the twin's program fails; other errors inside
+///         the episode (a controller that cannot go on) are recorded in EpisodeResult::failure.
 [[nodiscard]] EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
                                         const ControllerSpec& controller, Index run);
 

@@ -12,6 +12,7 @@
 #include <span>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/experiments/episode_runner.hpp"
 #include "twincal/experiments/experiment_group.hpp"
 #include "twincal/experiments/result_store.hpp"
 #include "twincal/experiments/run_options.hpp"
@@ -19,10 +20,32 @@
 
 namespace twincal {
 
+/// The most episodes (groups × runs × controllers) one study may plan: summary.json and the
+/// results store keep every episode's metrics in memory (about 3 KB each, measured on the
+/// analytic twin: 1.1 GB after 368 000 episodes), so a study at the limit needs about 3 GB.
+inline constexpr Index max_study_episodes = 1'000'000;
+
+/// What run_experiments and a dry run check before anything runs: each group's config
+/// (validate(), require_episodes_fit), unique group names, and the study's episode count
+/// against max_study_episodes (counted without overflow). Returns the episode count.
+/// @throws InvalidArgumentError naming the group, or `episodes` and the count.
+Index require_study_fits(std::span<const ExperimentGroup> groups);
+
+/// `config.assemblies` is at most `twin`'s assemblies (run and dry run alike).
+/// @throws InvalidArgumentError naming the group.
+void require_twin_has_assemblies(const ExperimentConfig& config, const CaseTwin& twin);
+
 /// Runs the missing episodes of `groups` into `store` and rewrites its summary.json.
+///
+/// Twin failures (TwinFailureError: the twin's program crashed, hung or answered garbage again
+/// after the pool's retry) are not results: such an episode is not stored, so running the same
+/// study again runs it; after two such episodes in a row in one group, its twin is given up and
+/// the group's remaining episodes are not started (a dead twin costs two episodes, not every
+/// one); the other groups go on. At the end, one TwinFailureError lists per group how many
+/// episodes failed, how many were not started and the first failure.
 /// @throws InvalidArgumentError (a config, a group that conflicts with the stored one, two
-///         groups of one name), Error (files); the first error of a worker after the others
-///         have stopped (episodes finished before it stay stored).
+///         groups of one name), Error (files); the first other error of a worker after the
+///         others have stopped (episodes finished before it stay stored); TwinFailureError.
 RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& store,
                           const RunOptions& options = {});
 

@@ -9,6 +9,7 @@
 ///   {"command": ["python3", "twin.py"], "locators": ["A", "B", "C"],
 ///    "lower_bounds": [-1, -1, -1], "upper_bounds": [1, 1, 1],
 ///    "upper_parts": 10, "lower_parts": 10, "workers": 4, "timeout_ms": 10000,
+///    "startup_grace_ms": 10000,
 ///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000,
 ///    "optimum_budget": 0}
 
@@ -31,6 +32,9 @@ struct ExternalTwinSettings {
   Index lower_parts = 10;
   Index workers = 1;         ///< processes of the pool; does not change any result
   Index timeout_ms = 10000;  ///< longest wait for one reply
+  /// Added to timeout_ms for a freshly started process's first reply (an interpreter or a
+  /// solver that loads a model before it answers); does not change any result.
+  Index startup_grace_ms = 10000;
   /// Budgets of the u0(x) search per assembly (NLopt's DIRECT-L, then BOBYQA; controllers'
   /// nlopt_optimizer.hpp): every evaluation is one request, so a slow twin wants them small.
   Index optimum_global_evaluations = 2000;
