@@ -21,6 +21,7 @@ bool retryable(ExternalTwinFailure failure) noexcept {
       return true;
     case ExternalTwinFailure::start_failed:
     case ExternalTwinFailure::twin_error:
+    case ExternalTwinFailure::implausible_quality:  // a deterministic twin answers it again
       return false;
   }
   return false;

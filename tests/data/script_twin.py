@@ -10,6 +10,8 @@ misbehave on purpose with A.mode:
   "wrong_count"  reply with one quality too many
   "error"        reply {"error": ...}
   "null"         reply null for every quality (a value the twin could not compute)
+  "negative"     reply -0.25 for the first quality (an RMS deviation cannot be negative)
+  "huge"         reply 1e300 for the last quality (an unconverged solve printed as a number)
   "pid"          reply with the process id as every quality (tests restarts)
   "chatty"       reply, then write a second, unrequested line
   "wrong_id"     reply with the id of another request
@@ -83,6 +85,10 @@ def main():
                          for u in controls]
             if mode == "wrong_count":
                 qualities.append(0.0)
+            elif mode == "negative":
+                qualities[0] = -0.25
+            elif mode == "huge":
+                qualities[-1] = 1e300
             reply = json.dumps({"id": reply_id, "qualities": qualities})
             if mode == "chatty":  # one write, so both lines arrive together
                 reply += "\n" + json.dumps({"id": reply_id + 1, "qualities": qualities})

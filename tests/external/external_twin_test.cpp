@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -230,6 +231,24 @@ TEST(ExternalTwin, ReportsAnErrorReplyAndKeepsTheChild) {
               ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr(
                   "twin: external twin reported an error: assembly rejected on purpose")));
   EXPECT_EQ(pid_of(twin), first);
+}
+
+TEST(ExternalTwin, RefusesANegativeOrHugeQualityAndKeepsTheChild) {
+  const ExternalTwin twin(script_options());
+  const pid_t first = pid_of(twin);
+  VectorX out(2);
+  EXPECT_THAT([&] { twin.quality_batch(misbehaving("negative"), MatrixX::Zero(2, 2), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr(
+                  "twin: external twin answered an implausible quality: quality 0 is -0.25; "
+                  "rule: a quality is an RMS deviation in [0, max_quality = 1000000] mm")));
+  EXPECT_EQ(failure_of(twin, misbehaving("huge")), ExternalTwinFailure::implausible_quality);
+  EXPECT_THAT([&] { twin.quality_batch(misbehaving("huge"), MatrixX::Zero(2, 2), out); },
+              ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr("quality 1 is 1e+300")));
+  EXPECT_EQ(pid_of(twin), first);
+  ExternalTwinOptions options = script_options();
+  options.max_quality = std::numeric_limits<double>::infinity();
+  ASSERT_TRUE(options.validate().has_value());
+  EXPECT_THAT(*options.validate(), HasSubstr("max_quality is inf; rule: must be finite and > 0"));
 }
 
 TEST(ExternalTwin, NullQualitiesBecomeNonFiniteErrorsInTheEvaluator) {

@@ -20,6 +20,7 @@
 ///   - a reply with the wrong number of qualities           → wrong_count  (kept: the line
 ///                                                                          framing is intact)
 ///   - an {"error": …} reply                                → twin_error   (kept)
+///   - a quality below 0 or above max_quality (1e6 mm)      → implausible_quality (kept)
 /// each as an ExternalTwinError carrying the assembly and the controls of the request. The child
 /// runs in its own process group, so killing it also kills programs it started. Requests are
 /// serialized by a mutex: the twin may be shared by threads, one request is in flight at a time.
@@ -73,6 +74,11 @@ struct ExternalTwinOptions {
   /// The longest reply line; a child that writes more without a newline (a flood) is a
   /// malformed reply, killed and restarted, and twincal's memory stays bounded.
   std::size_t max_reply_bytes = std::size_t{64} << 20;
+  /// The largest quality a reply may hold, in mm: a quality is an RMS deviation, so one below 0
+  /// or above this is a twin's bug (an unconverged solve printed as 1e300), refused as
+  /// implausible_quality instead of being fed to a filter. null stays the way to say "could not
+  /// compute this control".
+  double max_quality = 1e6;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     if (command.empty() || command.front().empty()) {
@@ -93,6 +99,9 @@ struct ExternalTwinOptions {
     if (max_reply_bytes < 1024) {
       return fmt::format("max_reply_bytes is {}; rule: must be >= 1024", max_reply_bytes);
     }
+    if (!(max_quality > 0.0) || !std::isfinite(max_quality)) {
+      return fmt::format("max_quality is {}; rule: must be finite and > 0", max_quality);
+    }
     if (startup_grace.count() < 0 || shutdown_grace.count() < 0) {
       return fmt::format("startup_grace and shutdown_grace are {} and {} ms; rule: must be >= 0",
                          startup_grace.count(), shutdown_grace.count());
@@ -109,6 +118,7 @@ enum class ExternalTwinFailure {
   malformed_reply,  ///< the reply was not the protocol's JSON (the child was killed)
   wrong_count,      ///< the reply had a different number of qualities than controls
   twin_error,       ///< the child answered {"error": …}
+  implausible_quality,  ///< a quality below 0 or above max_quality (the child is kept)
 };
 
 [[nodiscard]] constexpr std::string_view to_string(ExternalTwinFailure failure) noexcept {
@@ -125,6 +135,8 @@ enum class ExternalTwinFailure {
       return "wrong number of qualities";
     case ExternalTwinFailure::twin_error:
       return "reported an error";
+    case ExternalTwinFailure::implausible_quality:
+      return "answered an implausible quality";
   }
   return "unknown failure";
 }
@@ -478,6 +490,13 @@ class ExternalTwin {
       const nlohmann::json& q = (*qualities)[static_cast<std::size_t>(j)];
       if (q.is_number()) {
         out(j) = q.get<double>();
+        if (!(out(j) >= 0.0 && out(j) <= options_.max_quality)) {
+          throw fail(ExternalTwinFailure::implausible_quality,
+                     fmt::format("quality {} is {}; rule: a quality is an RMS deviation in "
+                                 "[0, max_quality = {}] mm, or null for a control the twin "
+                                 "could not evaluate",
+                                 j, quoted(q), options_.max_quality));
+        }
       } else if (q.is_null()) {
         out(j) = std::numeric_limits<double>::quiet_NaN();
       } else {
