@@ -646,8 +646,8 @@ database is only read (a running server may keep writing to it).
       throw InvalidArgumentError("--out", "--out: given with --check; rule: --check writes no CSV");
     }
     const HistoryCheck verified = ServeSession::check(*database);
-    fmt::print("{}: ok — {} requests and {} observations replayed bit for bit{}\n", *database,
-               verified.requests, verified.observations,
+    fmt::print("{}: ok — {} requests, {} observations and {} snapshots replayed bit for bit{}\n",
+               *database, verified.requests, verified.observations, verified.snapshots,
                verified.pending ? "; the last request awaits its observation" : "");
     return 0;
   }
@@ -683,7 +683,7 @@ std::string read_token(const std::string& path) {
 int serve_command(std::span<const std::string> args) {
   static const std::string help = fmt::format(
       R"(usage: twincal serve --db FILE [options]
-       twincal serve --db FILE --resume [--listen [HOST:]PORT] [--durability full|normal]
+       twincal serve --db FILE --resume [--verify-all] [--listen [HOST:]PORT] [--durability full|normal]
 
 Runs the online controller for a cell (the paper's Fig. 1): per assembly the cell sends
 {{"op": "propose", "assembly": ...}} and gets the locator adjustment, then sends
@@ -693,9 +693,15 @@ proposal and observation is in the database before its reply is sent; after a cr
 --resume continues bit for bit. Protocol and schema: docs/serve.md.
 
   --db FILE              the session's SQLite history (created; with --resume, read)
-  --resume               continue the session of --db (its settings come from the database)
+  --resume               continue the session of --db (its settings come from the database):
+                         the controller restored from the last snapshot, the requests after it
+                         replayed bit for bit
+  --verify-all           with --resume, replay the whole history instead, every snapshot compared
+  --snapshot-every N     store the controller's state every N observations (default 1000; 0:
+                         never, and a resume replays everything), and at checkpoint and shutdown
   --listen [HOST:]PORT   serve TCP connections instead of stdin/stdout (HOST defaults to
                          127.0.0.1; PORT 0 picks a free port, printed on stderr)
+  --listen unix:PATH     serve connections on a Unix-domain socket (mode 0600: the owner only)
   --max-connections N    TCP connections open at once (default 64; one more is refused)
   --idle-timeout-ms T    close a TCP connection silent for T ms (default 600000)
   --token-file FILE      the shared secret (its first line, at least 16 characters) a
@@ -709,7 +715,7 @@ proposal and observation is in the database before its reply is sent; after a cr
   --run R                build the controller with the seeds of run R of `twincal run` (default 0)
 {})",
       config_options_help);
-  Arguments arguments(args, {"help", "resume"});
+  Arguments arguments(args, {"help", "resume", "verify-all"});
   if (wants_help(arguments, help.c_str())) return 0;
   const auto database = arguments.text("db");
   if (!database)
@@ -733,18 +739,25 @@ proposal and observation is in the database before its reply is sent; after a cr
                                     std::pair{idle_timeout.has_value(), "--idle-timeout-ms"}}) {
     if (given && !listen_text) {
       throw InvalidArgumentError(
-          name, fmt::format("{}: is given without --listen; rule: it sets the TCP listener", name));
+          name, fmt::format("{}: is given without --listen; rule: it sets the listener", name));
     }
   }
   if (const auto& v = listen_text) {
     ListenOptions options;
-    const std::size_t colon = v->rfind(':');
-    if (colon != std::string::npos) options.host = v->substr(0, colon);
-    const std::string port = colon == std::string::npos ? *v : v->substr(colon + 1);
-    const auto [end, error] = std::from_chars(port.data(), port.data() + port.size(), options.port);
-    if (error != std::errc{} || end != port.data() + port.size()) {
-      throw InvalidArgumentError(
-          "--listen", fmt::format("--listen: is \"{}\"; rule: [HOST:]PORT, PORT an integer", *v));
+    if (v->starts_with("unix:")) {
+      options.unix_socket = v->substr(5);
+    } else {
+      const std::size_t colon = v->rfind(':');
+      if (colon != std::string::npos) options.host = v->substr(0, colon);
+      const std::string port = colon == std::string::npos ? *v : v->substr(colon + 1);
+      const auto [end, error] =
+          std::from_chars(port.data(), port.data() + port.size(), options.port);
+      if (error != std::errc{} || end != port.data() + port.size()) {
+        throw InvalidArgumentError(
+            "--listen",
+            fmt::format("--listen: is \"{}\"; rule: [HOST:]PORT (PORT an integer) or unix:PATH",
+                        *v));
+      }
     }
     if (token_file) options.token = read_token(*token_file);
     if (max_connections) {
@@ -759,11 +772,22 @@ proposal and observation is in the database before its reply is sent; after a cr
     require_valid("--listen", options);
     listen = options;
   }
+  std::int64_t snapshot_interval = ServeOptions{}.snapshot_interval;
+  if (const auto v = arguments.integer("snapshot-every")) {
+    if (*v < 0) {
+      throw InvalidArgumentError(
+          "--snapshot-every",
+          fmt::format("--snapshot-every: is {}; rule: must be >= 0 (0: no snapshots)", *v));
+    }
+    snapshot_interval = *v;
+  }
+  const bool verify_all = arguments.flag("verify-all");
   std::function<ServeSession()> open_session;
   if (arguments.flag("resume")) {
     arguments.require_all_read();  // the settings are the database's
-    open_session = [&] {
-      ServeSession resumed = ServeSession::resume(*database, durability);
+    const ResumeOptions resume{durability, snapshot_interval, verify_all};
+    open_session = [&, resume] {
+      ServeSession resumed = ServeSession::resume(*database, resume);
       const nlohmann::json state = resumed.state();
       fmt::print(stderr, "twincal serve: resumed {}: {} observations{}\n", *database,
                  resumed.observed(),
@@ -788,6 +812,12 @@ proposal and observation is in the database before its reply is sent; after a cr
     options.controller = options.config.controllers.front();
     if (const auto v = arguments.integer("run")) options.run = *v;
     options.durability = durability;
+    options.snapshot_interval = snapshot_interval;
+    if (verify_all) {
+      throw InvalidArgumentError("--verify-all",
+                                 "--verify-all: given without --resume; rule: it sets how a "
+                                 "resume replays the history");
+    }
     arguments.require_all_read();
     require_valid("options", options);
     open_session = [&, options] { return ServeSession::start(options, *database); };
@@ -797,10 +827,15 @@ proposal and observation is in the database before its reply is sent; after a cr
   std::optional<ServeSession> session;
   if (listen) {
     // Bound before the session opens: a port in use leaves no new database behind.
-    serve_tcp(
+    serve_connections(
         *listen, [&]() -> ServeSession& { return session.emplace(open_session()); },
         [&](int port) {
-          fmt::print(stderr, "twincal serve: listening on {}:{}\n", listen->host, port);
+          if (listen->unix_socket) {
+            fmt::print(stderr, "twincal serve: listening on unix:{}\n",
+                       listen->unix_socket->string());
+          } else {
+            fmt::print(stderr, "twincal serve: listening on {}:{}\n", listen->host, port);
+          }
           std::fflush(stderr);
         });
   } else {

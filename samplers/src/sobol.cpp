@@ -89,6 +89,16 @@ void Sobol::discard(std::uint64_t count) {
   jump_to(position_ + count);
 }
 
+void Sobol::seek(std::uint64_t position) {
+  if (position > size()) {
+    throw InvalidArgumentError(
+        "position", fmt::format("position: is {}; rule: must be <= the sequence's {} points "
+                                "(bits = {})",
+                                position, size(), options_.bits));
+  }
+  jump_to(position);
+}
+
 std::uint64_t Sobol::direction(Index j, int i) const {
   require_in_range("j", static_cast<double>(j), 0.0, static_cast<double>(dimension_ - 1));
   require_in_range("i", static_cast<double>(i), 0.0, static_cast<double>(options_.bits - 1));

@@ -5,7 +5,9 @@
 #include <type_traits>
 #include <vector>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "controller_fixture.hpp"
 #include "twincal/controllers/information_probe.hpp"
@@ -198,6 +200,106 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
   EXPECT_THROW((ActiveController<testing::AnalyticTwin, Dynamic>(
                    twin, RandomStream(1), ActiveOptions{.max_probe_fraction = 2.0})),
                InvalidArgumentError);
+}
+
+// --- snapshots (save / restore, SnapshotController) ------------------------------------------
+
+static_assert(SnapshotController<ActiveController<CountingTwin, 3>>);
+static_assert(SnapshotController<ActiveController<RuggedTwin, Dynamic>>);
+
+// Assembly t of a drifting plant Q(x, u − δu*_t); every `other`-th assembly the cell applies
+// another control than the proposal (0: never). Returns u_t and the whole state after the
+// observation (save(): estimate, covariance, reports, estimator, streams) as text.
+template <typename C, typename T>
+std::pair<VectorX, std::string> active_snapshot_step(C& controller, const T& twin,
+                                                     const std::vector<AssemblyId>& assemblies,
+                                                     int t, bool propose = true, VectorX u = {},
+                                                     int other = 0) {
+  const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+  if (propose) u = controller.propose(x);
+  if (other > 0 && t % other == 0) u.array() += 0.01;
+  const double s = static_cast<double>(t);
+  const VectorX offset = Eigen::Vector3d(0.1 * std::sin(0.05 * s), -0.08 + 0.002 * s, 0.05);
+  controller.observe(x, typename C::ControlVector(u), twin.quality(x, VectorX(u - offset)));
+  return {u, controller.save().dump()};
+}
+
+template <typename C, typename T>
+void expect_active_restores(const T& twin, const std::vector<AssemblyId>& assemblies,
+                            ActiveOptions options, int other) {
+  for (const bool between : {false, true}) {
+    // After an observation, or between a proposal and its observation.
+    C copy(twin, RandomStream(8), options);
+    for (int t = 0; t < 30; ++t) {
+      (void)active_snapshot_step(copy, twin, assemblies, t, true, {}, other);
+    }
+    VectorX u;
+    if (between) u = copy.propose(assemblies[30]);
+    const nlohmann::json snapshot = nlohmann::json::parse(copy.save().dump());
+    C restored(twin, RandomStream(8), options);
+    restored.restore(snapshot);
+    EXPECT_EQ(restored.save().dump(), snapshot.dump());
+    for (int t = 30; t < 70; ++t) {
+      const bool propose = !(between && t == 30);
+      EXPECT_EQ(active_snapshot_step(copy, twin, assemblies, t, propose, u, other),
+                active_snapshot_step(restored, twin, assemblies, t, propose, u, other))
+          << "assembly " << t << (between ? ", restored between propose and observe" : "");
+    }
+  }
+}
+
+TYPED_TEST(ActiveControllerTest, ASnapshotRestoresItBitForBit) {
+  const testing::AnalyticTwin twin = testing::make_twin(3);
+  const CountingTwin counting(twin);
+  expect_active_restores<TypeParam>(counting, twin.assemblies(), ActiveOptions{}, 0);
+}
+
+// The sigma-point mode (a twin that is not quadratic, its model errors not weighed), with
+// controls other than the proposal observed now and then.
+TEST(ActiveController, ASnapshotRestoresItsSigmaPointModeBitForBit) {
+  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
+  expect_active_restores<ActiveController<RuggedTwin, Dynamic>>(
+      twin, twin.assemblies(), ActiveOptions{.weigh_model_error = false}, 4);
+  // Model errors weighed, relinearization and the audit.
+  expect_active_restores<ActiveController<RuggedTwin, Dynamic>>(twin, twin.assemblies(),
+                                                                ActiveOptions{}, 0);
+}
+
+TEST(ActiveController, RefusesABadSnapshotAndKeepsItsState) {
+  const testing::AnalyticTwin twin = testing::make_twin(3);
+  ActiveController<testing::AnalyticTwin, Dynamic> tried(twin, RandomStream(8));
+  ActiveController<testing::AnalyticTwin, Dynamic> untouched(twin, RandomStream(8));
+  ActiveController<testing::AnalyticTwin, Dynamic> other(twin, RandomStream(9));
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  for (int t = 0; t < 20; ++t) {
+    (void)active_snapshot_step(tried, twin, assemblies, t);
+    (void)active_snapshot_step(untouched, twin, assemblies, t);
+    (void)active_snapshot_step(other, twin, assemblies, t);
+  }
+  const nlohmann::json good = other.save();
+  const std::string state = tried.save().dump();
+  // The estimator is restored after the probe: the probe goes back when the estimator's part
+  // is refused.
+  nlohmann::json bad = good;
+  bad["estimator"].erase("residual_scale");
+  EXPECT_THAT([&] { tried.restore(bad); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  ::testing::HasSubstr("estimator.residual_scale: field is missing")));
+  EXPECT_EQ(tried.save().dump(), state);
+  bad = good;
+  bad["estimator"]["history"][3]["quality"] = nullptr;  // NaN
+  EXPECT_THROW(tried.restore(bad), NonFiniteError);
+  bad = good;
+  bad["recent_innovations"].erase(0);  // a ring of another size
+  EXPECT_THROW(tried.restore(bad), DimensionMismatchError);
+  bad = good;
+  bad["probe"]["format"] = "twincal.information_probe";
+  EXPECT_THROW(tried.restore(bad), InvalidArgumentError);
+  EXPECT_EQ(tried.save().dump(), state);
+  for (int t = 20; t < 40; ++t) {
+    EXPECT_EQ(active_snapshot_step(tried, twin, assemblies, t),
+              active_snapshot_step(untouched, twin, assemblies, t));
+  }
 }
 
 }  // namespace

@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
 #include "twincal/core/random_stream.hpp"
@@ -250,6 +252,110 @@ TEST(ConstantVelocityEstimator, RefusesBadInputAndKeepsItsState) {
   EXPECT_THROW(estimator.add(1, scenario.model, u, 0.6, std::nan("")), NonFiniteError);
   EXPECT_EQ(estimator.state(), state);
   EXPECT_EQ(estimator.history_size(), 1);
+}
+
+// Assembly t of a drift that turns back at 20 and 45, every seventh entry's model erring (τ² > 0,
+// the misfit medians) and, every fifth assembly, the oldest entry refitted; returns the
+// normalized innovation and the whole state after the fit (save()) as text.
+std::string estimator_snapshot_step(ConstantVelocityEstimator<3>& estimator,
+                                    DriftScenario& scenario, Index t) {
+  const Eigen::Vector3d velocity(0.01, -0.02, 0.015);
+  const double s = static_cast<double>(t);
+  const double travelled = t < 20 ? s : (t < 45 ? 40.0 - s : s - 50.0);
+  const Eigen::Vector3d u = scenario.next(t, estimator.position());
+  const double model_variance = t % 7 == 0 ? 4e-4 : 0.0;
+  const double error = t % 7 == 0 ? 1e-3 * std::sin(s) : 0.0;
+  const double nis = estimator.add(t, scenario.model, u,
+                                   scenario.plant(u, travelled * velocity) + error, model_variance);
+  if (t % 5 == 0 && estimator.history_size() > 1) {
+    QuadraticModel<3> refitted = scenario.model;
+    refitted.value *= 1.001;
+    estimator.relinearize(0, refitted, 1e-4);
+  }
+  estimator.fit(t + 1);
+  return nlohmann::json(nis).dump() + estimator.save().dump();
+}
+
+// A snapshot that went through text restores an estimator built alike bit for bit: a history
+// ring that has wrapped (max_history = 16), changes of velocity, the misfit medians,
+// relinearized entries.
+TEST(ConstantVelocityEstimator, ASnapshotRestoresItBitForBit) {
+  ConstantVelocityOptions options;
+  options.max_history = 16;
+  options.misfit_window = 5;
+  const auto make = [&options] {
+    ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4, options);
+    estimator.reset(0, Eigen::Vector3d(0.05, 0.0, -0.02));
+    return estimator;
+  };
+  ConstantVelocityEstimator<3> original = make();
+  DriftScenario scenario;
+  for (Index t = 0; t < 40; ++t) (void)estimator_snapshot_step(original, scenario, t);
+  EXPECT_GE(original.changes(), 1);
+  EXPECT_GT(original.misfit_scale(), 1.0);
+  const nlohmann::json snapshot = nlohmann::json::parse(original.save().dump());
+  EXPECT_NE(snapshot["head"], 0);  // the ring has wrapped
+
+  ConstantVelocityEstimator<3> restored = make();
+  restored.restore(snapshot);
+  EXPECT_EQ(restored.save(), snapshot);
+  DriftScenario same = scenario;
+  for (Index t = 40; t < 80; ++t) {
+    EXPECT_EQ(estimator_snapshot_step(original, scenario, t),
+              estimator_snapshot_step(restored, same, t))
+        << "assembly " << t;
+  }
+  EXPECT_EQ(original.position(), restored.position());
+  EXPECT_EQ(original.position_covariance(), restored.position_covariance());
+  EXPECT_EQ(original.misfit_scale(), restored.misfit_scale());
+}
+
+TEST(ConstantVelocityEstimator, RefusesABadSnapshotAndKeepsItsState) {
+  ConstantVelocityEstimator<3> estimator = make_estimator();
+  estimator.reset(0, Eigen::Vector3d::Zero());
+  DriftScenario scenario;
+  for (Index t = 0; t < 10; ++t) (void)estimator_snapshot_step(estimator, scenario, t);
+  const nlohmann::json good = estimator.save();
+  ConstantVelocityEstimator<3> other = make_estimator();
+  other.reset(0, Eigen::Vector3d::Zero());
+  const std::string state = other.save().dump();
+  const auto refused = [&](nlohmann::json bad, const std::string& field) {
+    try {
+      other.restore(bad);
+      ADD_FAILURE() << "restored a snapshot with a bad " << field;
+    } catch (const InvalidArgumentError& error) {
+      EXPECT_EQ(error.argument(), field) << error.what();
+    } catch (const NonFiniteError& error) {
+      EXPECT_EQ(error.argument(), field) << error.what();
+    }
+    EXPECT_EQ(other.save().dump(), state) << field;
+  };
+  const std::size_t last = good["history"].size() - 1;
+  ASSERT_GE(last, 2U);
+  const auto entry = [](std::size_t i, const char* field) {
+    return "history[" + std::to_string(i) + "]." + field;
+  };
+  nlohmann::json bad = good;
+  bad["max_history"] = 64;
+  refused(bad, "max_history");
+  bad = good;
+  bad["format"] = "twincal.sigma_point_filter";
+  refused(bad, "format");
+  bad = good;
+  bad["history"][last].erase("model_variance");
+  refused(bad, entry(last, "model_variance"));
+  bad = good;
+  bad["history"][1]["hessian"] = 99;
+  refused(bad, entry(1, "hessian"));
+  bad = good;
+  bad["history"][last - 1]["time"] = 100;  // later than the entry after it
+  refused(bad, entry(last, "time"));
+  bad = good;
+  bad["misfit"]["scale"] = "inf";
+  refused(bad, "misfit.scale");
+  bad = good;
+  bad["state"][5] = nullptr;
+  refused(bad, "state[5]");
 }
 
 TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {

@@ -5,6 +5,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "controller_fixture.hpp"
 #include "twincal/controllers/controller.hpp"
@@ -254,6 +255,96 @@ TYPED_TEST(LookaheadControllerFilters, TracksASlowDriftWithoutDivergingForOneLoc
       make_filter<F>(counting, Vector<F::dimension_at_compile_time>::Zero(1), 1e-3),
       Sobol(1, scrambled(9)), {.w = 0.5});
   expect_tracking(track_drift(controller, twin, 2023));
+}
+
+static_assert(SnapshotController<SobolController<testing::Ukf<2>>>);
+static_assert(SnapshotController<LookaheadController<testing::SquareRootUkf<3>, Halton>>);
+
+// Assembly t of a drifting offset; the whole state after the observation (save()) as text.
+template <typename C>
+std::string lookahead_snapshot_step(C& controller, const AnalyticTwin& twin, int t, bool propose,
+                                    VectorX& u) {
+  const AssemblyId x = twin.assemblies()[static_cast<std::size_t>(t)];
+  if (propose) u = controller.propose(x);
+  const double offset = 0.1 * std::sin(0.1 * static_cast<double>(t));
+  controller.observe(x, typename C::ControlVector(u),
+                     twin.quality(x, VectorX(u.array() - offset)));
+  return controller.save().dump();
+}
+
+// A snapshot that went through text restores a controller built alike bit for bit, taken after
+// an observation or between a proposal and its observation (the chosen candidate's preview,
+// which observe commits), with every kind of filter.
+TYPED_TEST(LookaheadControllerFilters, ASnapshotRestoresItBitForBit) {
+  using F = TypeParam;
+  const AnalyticTwin twin = make_twin(1);
+  const CountingTwin counting(twin);
+  const auto make = [&counting] {
+    return LookaheadController<F, Sobol>(
+        make_filter<F>(counting, Vector<F::dimension_at_compile_time>::Zero(1), 1e-3),
+        Sobol(1, scrambled(9)), {.w = 0.5});
+  };
+  for (const bool between : {false, true}) {
+    auto original = make();
+    VectorX u;
+    for (int t = 0; t < 30; ++t) (void)lookahead_snapshot_step(original, twin, t, true, u);
+    if (between) u = original.propose(twin.assemblies()[30]);
+    const nlohmann::json snapshot = nlohmann::json::parse(original.save().dump());
+    EXPECT_EQ(snapshot["pending"], between);
+    auto restored = make();
+    restored.restore(snapshot);
+    EXPECT_EQ(restored.save(), snapshot);
+    VectorX v = u;
+    for (int t = 30; t < 60; ++t) {
+      const bool propose = !(between && t == 30);
+      const std::string expected = lookahead_snapshot_step(original, twin, t, propose, u);
+      const auto evaluations = counting.stats().evaluations;
+      EXPECT_EQ(lookahead_snapshot_step(restored, twin, t, propose, v), expected)
+          << "assembly " << t;
+      if (!propose) {
+        // The pending proposal's preview is committed, not evaluated afresh.
+        EXPECT_EQ(counting.stats().evaluations, evaluations);
+      }
+    }
+  }
+}
+
+TEST(LookaheadController, RefusesABadSnapshotAndKeepsItsState) {
+  const AnalyticTwin twin = make_twin(2);
+  const CountingTwin counting(twin);
+  const auto make = [&counting] {
+    return SobolController<testing::Ukf<2>>(
+        make_filter<testing::Ukf<2>>(counting, Eigen::Vector2d::Zero(), 1e-3),
+        Sobol(2, scrambled(4)), {.w = 0.3});
+  };
+  auto tried = make();
+  auto untouched = make();
+  VectorX u;
+  VectorX v;
+  for (int t = 0; t < 10; ++t) {
+    (void)lookahead_snapshot_step(tried, twin, t, true, u);
+    (void)lookahead_snapshot_step(untouched, twin, t, true, v);
+  }
+  auto other = make();
+  (void)lookahead_snapshot_step(other, twin, 0, true, u);
+  const nlohmann::json good = other.save();
+  const std::string state = tried.save().dump();
+  nlohmann::json bad = good;
+  bad["filter"]["covariance"][0][0] = -1.0;  // the filter's part is restored last
+  EXPECT_THROW(tried.restore(bad), NotPositiveDefiniteError);
+  bad = good;
+  bad["sampler"]["format"] = "twincal.halton";
+  EXPECT_THAT([&] { tried.restore(bad); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  ::testing::StartsWith("sampler.format: is \"twincal.halton\"")));
+  bad = good;
+  bad["report"].erase("chosen");
+  EXPECT_THROW(tried.restore(bad), InvalidArgumentError);
+  EXPECT_EQ(tried.save().dump(), state);
+  for (int t = 10; t < 20; ++t) {
+    EXPECT_EQ(lookahead_snapshot_step(tried, twin, t, true, u),
+              lookahead_snapshot_step(untouched, twin, t, true, v));
+  }
 }
 
 TEST(LookaheadController, AblationsAreTypeChanges) {

@@ -23,7 +23,8 @@ def main():
         database = os.path.join(scratch, "cell.db")
         server = subprocess.Popen(
             [twincal, "serve", "--db", database, "--case", "analytic", "--dimension", "2",
-             "--locators", "all", "--controller", "w=1", "--durability", "normal"],
+             "--locators", "all", "--controller", "w=1", "--durability", "normal",
+             "--snapshot-every", "5"],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
         for t in range(12):
             server.stdin.write(json.dumps({"op": "propose", "assembly": t}) + "\n")
@@ -37,7 +38,8 @@ def main():
 
         checked = subprocess.run([twincal, "history", "--db", database, "--check"],
                                  capture_output=True, text=True, check=True)
-        assert "12 requests and 11 observations replayed bit for bit" in checked.stdout, checked
+        assert "12 requests, 11 observations and 2 snapshots replayed bit for bit" in checked.stdout, \
+            checked
         assert "the last request awaits its observation" in checked.stdout, checked
         damaged = os.path.join(scratch, "damaged.db")
         shutil.copy(database, damaged)

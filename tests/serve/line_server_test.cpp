@@ -4,9 +4,14 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <future>
 #include <optional>
 #include <string>
@@ -37,6 +42,13 @@ class Client {
     address.sin_family = AF_INET;
     address.sin_port = htons(static_cast<std::uint16_t>(port));
     ::inet_pton(AF_INET, "127.0.0.1", &address.sin_addr);
+    connected_ = ::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  }
+  // A client of a Unix-domain socket.
+  explicit Client(const std::filesystem::path& socket) : fd_(::socket(AF_UNIX, SOCK_STREAM, 0)) {
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::snprintf(address.sun_path, sizeof address.sun_path, "%s", socket.c_str());
     connected_ = ::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
   }
   Client(const Client&) = delete;
@@ -93,7 +105,7 @@ class Client {
   std::string buffer_;
 };
 
-// serve_tcp on a thread of its own; the port once it listens.
+// serve_connections on a thread of its own; the port once it listens.
 class Server {
  public:
   Server(ServeSession& session, ListenOptions options) {
@@ -101,7 +113,7 @@ class Server {
     std::future<int> port = listening.get_future();
     thread_ = std::thread([&session, options, &listening, this] {
       try {
-        serve_tcp(session, options, [&](int p) { listening.set_value(p); });
+        serve_connections(session, options, [&](int p) { listening.set_value(p); });
       } catch (...) {
         failure_ = std::current_exception();
       }
@@ -244,6 +256,56 @@ TEST_F(ServeTcp, TakesRequestsOnlyAfterTheToken) {
   cell.send("{\"op\": \"shutdown\"}\n");
   EXPECT_TRUE(ok(cell.line()));
   server.join();
+}
+
+TEST_F(ServeTcp, ServesAUnixSocketOnlyItsOwnerMayOpenAndRemovesItAfterwards) {
+  const std::filesystem::path path = database_.get().string() + ".sock";
+  // A stale socket file, as a killed server leaves it, is replaced.
+  {
+    const int stale = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::snprintf(address.sun_path, sizeof address.sun_path, "%s", path.c_str());
+    ASSERT_EQ(::bind(stale, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+    ::close(stale);
+  }
+  ListenOptions options;
+  options.unix_socket = path;
+  std::promise<void> listening;
+  std::exception_ptr failure;
+  std::thread server([&] {
+    try {
+      serve_connections(session_, options, [&](int) { listening.set_value(); });
+    } catch (...) {
+      failure = std::current_exception();
+      listening.set_value();
+    }
+  });
+  listening.get_future().wait();
+  ASSERT_FALSE(failure);
+  struct stat status {};
+  ASSERT_EQ(::stat(path.c_str(), &status), 0);
+  EXPECT_TRUE(S_ISSOCK(status.st_mode));
+  EXPECT_EQ(status.st_mode & 0777, 0600U);
+  // A second server on the same path is refused while the first runs.
+  TemporaryDatabase other_db;
+  ServeSession other = ServeSession::start(analytic_options("active"), other_db.get());
+  EXPECT_THAT([&] { serve_connections(other, options, [](int) {}); },
+              ::testing::ThrowsMessage<Error>(HasSubstr("is in use by a running server")));
+  Client cell(path);
+  ASSERT_TRUE(cell.connected());
+  cell.send("{\"op\": \"propose\", \"assembly\": 3}\n");
+  EXPECT_TRUE(ok(cell.line()));
+  cell.send("{\"op\": \"shutdown\"}\n");
+  EXPECT_TRUE(ok(cell.line()));
+  server.join();
+  EXPECT_FALSE(std::filesystem::exists(path));
+  // Any other file in its place is refused, and left alone.
+  std::ofstream(path) << "not a socket";
+  EXPECT_THAT([&] { serve_connections(other, options, [](int) {}); },
+              ::testing::ThrowsMessage<Error>(HasSubstr("exists and is not a socket")));
+  EXPECT_TRUE(std::filesystem::exists(path));
+  std::filesystem::remove(path);
 }
 
 TEST(ListenOptions, NameTheRuleTheyBreak) {

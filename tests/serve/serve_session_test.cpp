@@ -87,38 +87,120 @@ TEST(ServeSession, ProposesTheControlsOfTheEpisodeControllerDrivenDirectly) {
 
 // Resuming after any record is the same as never stopping, for filtered and unfiltered
 // controllers alike (the baseline's covariance is null in the history).
+// For every controller, a session killed between a proposal and its observation resumes to the
+// controls and state of an uninterrupted one: replaying its whole history (no snapshots), from
+// its last snapshot (every 3 observations: the one after request 6, request 7 replayed), and
+// from the beginning with every snapshot compared (verify_all).
 TEST(ServeSession, ResumesBitForBitFromItsHistory) {
+  struct Way {
+    std::int64_t snapshot_interval;
+    bool verify_all;
+  };
   for (const std::string controller : {"active", "w=0.5", "default", "baseline"}) {
     const TemporaryDatabase whole_db;
     ServeSession whole = ServeSession::start(analytic_options(controller), whole_db.get());
     const std::vector<json> expected = drive(whole, 0, 16);
-
-    const TemporaryDatabase split_db;
-    std::vector<json> controls;
-    {
-      ServeSession first = ServeSession::start(analytic_options(controller), split_db.get());
-      controls = drive(first, 0, 7);
-      // Killed between a proposal and its observation.
-      EXPECT_TRUE(call(first, {{"op", "propose"}, {"assembly", (7 * 7) % 100}})["ok"].get<bool>());
+    for (const Way way : {Way{0, false}, Way{3, false}, Way{3, true}}) {
+      const std::string label =
+          fmt::format("{}, snapshots every {}{}", controller, way.snapshot_interval,
+                      way.verify_all ? ", verify_all" : "");
+      const TemporaryDatabase split_db;
+      std::vector<json> controls;
+      {
+        ServeOptions options = analytic_options(controller);
+        options.snapshot_interval = way.snapshot_interval;
+        ServeSession first = ServeSession::start(options, split_db.get());
+        controls = drive(first, 0, 7);
+        // Killed between a proposal and its observation.
+        EXPECT_TRUE(
+            call(first, {{"op", "propose"}, {"assembly", (7 * 7) % 100}})["ok"].get<bool>());
+      }
+      const std::vector<std::int64_t> snapshots = way.snapshot_interval == 3
+                                                      ? std::vector<std::int64_t>{3, 6}
+                                                      : std::vector<std::int64_t>{};
+      EXPECT_EQ(HistoryStore::open_read_only(split_db.get()).snapshot_requests(), snapshots)
+          << label;
+      ServeSession second = ServeSession::resume(
+          split_db.get(), ResumeOptions{.durability = Durability::normal,
+                                        .snapshot_interval = way.snapshot_interval,
+                                        .verify_all = way.verify_all});
+      EXPECT_EQ(second.observed(), 7) << label;
+      ASSERT_FALSE(second.state()["pending"].is_null()) << label;
+      // The cell re-sends the pending assembly and gets the same proposal back.
+      const json again = call(second, {{"op", "propose"}, {"assembly", (7 * 7) % 100}});
+      EXPECT_TRUE(again["repeated"].get<bool>());
+      EXPECT_EQ(again["control"], expected[7]) << label;
+      ASSERT_TRUE(call(second, {{"op", "observe"},
+                                {"request_id", again["request_id"]},
+                                {"quality", plant(second, 49, again["control"])}})["ok"]
+                      .get<bool>());
+      const std::vector<json> rest = drive(second, 8, 16);
+      controls.push_back(again["control"]);
+      controls.insert(controls.end(), rest.begin(), rest.end());
+      EXPECT_EQ(controls, expected) << label;
+      EXPECT_EQ(second.state()["estimate"], whole.state()["estimate"]) << label;
+      EXPECT_EQ(second.state()["covariance"], whole.state()["covariance"]) << label;
     }
-    ServeSession second = ServeSession::resume(split_db.get(), Durability::normal);
-    EXPECT_EQ(second.observed(), 7) << controller;
-    ASSERT_FALSE(second.state()["pending"].is_null()) << controller;
-    // The cell re-sends the pending assembly and gets the same proposal back.
-    const json again = call(second, {{"op", "propose"}, {"assembly", (7 * 7) % 100}});
-    EXPECT_TRUE(again["repeated"].get<bool>());
-    EXPECT_EQ(again["control"], expected[7]) << controller;
-    ASSERT_TRUE(call(second, {{"op", "observe"},
-                              {"request_id", again["request_id"]},
-                              {"quality", plant(second, 49, again["control"])}})["ok"]
-                    .get<bool>());
-    const std::vector<json> rest = drive(second, 8, 16);
-    controls.push_back(again["control"]);
-    controls.insert(controls.end(), rest.begin(), rest.end());
-    EXPECT_EQ(controls, expected) << controller;
-    EXPECT_EQ(second.state()["estimate"], whole.state()["estimate"]) << controller;
-    EXPECT_EQ(second.state()["covariance"], whole.state()["covariance"]) << controller;
   }
+}
+
+TEST(ServeSession, StoresASnapshotAtCheckpointAndShutdownAndChecksEveryOne) {
+  const TemporaryDatabase database;
+  {
+    ServeOptions options = analytic_options("active");
+    options.snapshot_interval = 4;
+    ServeSession session = ServeSession::start(options, database.get());
+    drive(session, 0, 6);
+    EXPECT_TRUE(call(session, {{"op", "checkpoint"}})["ok"].get<bool>());  // after request 6
+    drive(session, 6, 9);
+    EXPECT_TRUE(call(session, {{"op", "shutdown"}})["ok"].get<bool>());  // after request 9
+  }
+  EXPECT_EQ(HistoryStore::open_read_only(database.get()).snapshot_requests(),
+            (std::vector<std::int64_t>{4, 6, 8, 9}));
+  const HistoryCheck verified = ServeSession::check(database.get());
+  EXPECT_EQ(verified.requests, 9);
+  EXPECT_EQ(verified.snapshots, 4);
+
+  // A snapshot edited and sealed again: the full replay finds it.
+  testing::edit_database(database.get(),
+                         "UPDATE snapshots SET state = replace(state, '\"request_id\":6', "
+                         "'\"request_id\":6,\"edited\":true') WHERE request_id = 6");
+  EXPECT_THROW((void)ServeSession::check(database.get()), HistoryDamageError);
+  testing::reseal_history(database.get());
+  try {
+    (void)ServeSession::check(database.get());
+    FAIL() << "checked a history whose snapshot was edited";
+  } catch (const HistoryMismatchError& error) {
+    EXPECT_EQ(error.argument(), "snapshot");
+    EXPECT_THAT(error.what(), HasSubstr("request 6 replays to another snapshot"));
+  }
+}
+
+TEST(ServeSession, RefusesASnapshotItCannotRestore) {
+  const TemporaryDatabase database;
+  {
+    ServeOptions options = analytic_options("w=1");
+    options.snapshot_interval = 2;
+    ServeSession session = ServeSession::start(options, database.get());
+    drive(session, 0, 5);
+  }
+  // The last snapshot's filter state loses its covariance: refused, naming the snapshot.
+  testing::edit_database(database.get(),
+                         "UPDATE snapshots SET state = json_remove(state, '$.controller.filter') "
+                         "WHERE request_id = 4");
+  testing::reseal_history(database.get());
+  try {
+    (void)ServeSession::resume(database.get(), Durability::normal);
+    FAIL() << "restored a snapshot without its filter";
+  } catch (const HistoryMismatchError& error) {
+    EXPECT_EQ(error.argument(), "snapshot");
+    EXPECT_THAT(error.what(), HasSubstr("the snapshot after request 4 cannot be restored"));
+  }
+  // The whole replay does not need it, and finds it differs.
+  EXPECT_THROW(
+      (void)ServeSession::resume(
+          database.get(), ResumeOptions{.durability = Durability::normal, .verify_all = true}),
+      HistoryMismatchError);
 }
 
 TEST(ServeSession, AnswersEveryBadRequestWithAnErrorAndChangesNothing) {

@@ -49,8 +49,8 @@ inline void edit_database(const std::filesystem::path& path, const std::string& 
   if (code != SQLITE_OK) throw std::runtime_error(sql + ": " + reason);
 }
 
-/// Recomputes every proposals and observations checksum of the history at `path`: an edit that
-/// is sealed again, so that what resume sees is only what its replay can find.
+/// Recomputes every proposals, observations and snapshots checksum of the history at `path`: an
+/// edit that is sealed again, so that what resume sees is only what its replay can find.
 inline void reseal_history(const std::filesystem::path& path) {
   sqlite3* db = nullptr;
   if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) throw std::runtime_error("cannot open");
@@ -82,6 +82,11 @@ inline void reseal_history(const std::filesystem::path& path) {
       [](std::int64_t id, const auto& text, sqlite3_stmt* rows) {
         return HistoryStore::observation_checksum(id, sqlite3_column_double(rows, 1), text(2),
                                                   text(3), text(4));
+      });
+  run("SELECT request_id, state FROM snapshots",
+      "UPDATE snapshots SET checksum = ?1 WHERE request_id = ?2",
+      [](std::int64_t id, const auto& text, sqlite3_stmt*) {
+        return HistoryStore::snapshot_checksum(id, text(1));
       });
   sqlite3_close(db);
 }

@@ -35,6 +35,11 @@ static_assert(Controller<Learns> && !EstimatingController<Learns>);
 static_assert(EstimatingController<LearnsAndEstimates>);
 static_assert(EstimatingController<PaperController<RmsQuadraticTwin, 3>>);
 static_assert(EstimatingController<PerComponentPaperController<RmsQuadraticTwin>>);
+// Snapshots: the presets have save() and restore(); a controller without them is not one.
+static_assert(!SnapshotController<LearnsAndEstimates>);
+static_assert(SnapshotController<PaperController<RmsQuadraticTwin, 3>>);
+static_assert(SnapshotController<PaperDefaultController<RmsQuadraticTwin, Dynamic>>);
+static_assert(SnapshotController<PerComponentPaperController<RmsQuadraticTwin>>);
 
 // --- QualityFilter: the paper's filters qualify, a filter of another measurement does not -----
 static_assert(QualityFilter<PaperFilter<RmsQuadraticTwin, 3>>);

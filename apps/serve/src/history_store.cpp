@@ -8,12 +8,13 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <string_view>
 #include <utility>
 
-#include <boost/crc.hpp>
 #include <fmt/chrono.h>
 #include <fmt/format.h>
+#include <boost/crc.hpp>
 
 namespace twincal {
 namespace {
@@ -53,7 +54,8 @@ std::string now_utc() {
 
 // CRC-32 of a row: its request id and its columns' stored text, each followed by a unit
 // separator (0x1f), so that text moved from one column to the next changes it too.
-std::int64_t row_checksum(std::int64_t request_id, std::initializer_list<std::string_view> columns) {
+std::int64_t row_checksum(std::int64_t request_id,
+                          std::initializer_list<std::string_view> columns) {
   boost::crc_32_type crc;
   const std::string id = std::to_string(request_id);
   crc.process_bytes(id.data(), id.size());
@@ -215,10 +217,9 @@ void HistoryStore::watch_files() {
   database_identity_ = identity(path_);
   log_identity_ = identity(std::filesystem::path(path_.string() + "-wal"));
   if (!database_identity_ || !log_identity_) {
-    throw HistoryStoreError(path_.string(),
-                            fmt::format("{}: its {} is missing right after opening it",
-                                        path_.string(),
-                                        database_identity_ ? "write-ahead log (-wal)" : "file"));
+    throw HistoryStoreError(
+        path_.string(), fmt::format("{}: its {} is missing right after opening it", path_.string(),
+                                    database_identity_ ? "write-ahead log (-wal)" : "file"));
   }
 }
 
@@ -329,16 +330,16 @@ void HistoryStore::upgrade_from_format_1() {
                           path_);
     for_each_record(1, [&](const HistoryRecord& record) {
       proposal.bind(1, record.request_id);
-      proposal.bind(2, proposal_checksum(record.request_id, record.assembly.dump(),
-                                         record.control.dump(), record.report.dump(),
-                                         record.proposed_at));
+      proposal.bind(
+          2, proposal_checksum(record.request_id, record.assembly.dump(), record.control.dump(),
+                               record.report.dump(), record.proposed_at));
       proposal.step();
       proposal.reset();
       if (!record.quality) return;
       observation.bind(1, record.request_id);
-      observation.bind(2, observation_checksum(record.request_id, *record.quality,
-                                               record.estimate.dump(), record.covariance.dump(),
-                                               record.observed_at));
+      observation.bind(
+          2, observation_checksum(record.request_id, *record.quality, record.estimate.dump(),
+                                  record.covariance.dump(), record.observed_at));
       observation.step();
       observation.reset();
     });
@@ -361,22 +362,29 @@ json HistoryStore::settings() const {
 
 void HistoryStore::for_each_record(std::int64_t first,
                                    const std::function<void(const HistoryRecord&)>& visit) const {
-  // A format-1 history has no checksum columns: NULL stands in for them.
-  Statement select(db_,
-                   checksums_
-                       ? "SELECT p.request_id, p.assembly, p.control, p.report, o.quality, "
-                         "o.estimate, o.covariance, p.proposed_at, o.observed_at, p.checksum, "
-                         "o.checksum FROM proposals p LEFT JOIN observations o USING "
-                         "(request_id) WHERE p.request_id >= ?1 ORDER BY p.request_id"
-                       : "SELECT p.request_id, p.assembly, p.control, p.report, o.quality, "
-                         "o.estimate, o.covariance, p.proposed_at, o.observed_at, NULL, NULL "
-                         "FROM proposals p LEFT JOIN observations o USING (request_id) "
-                         "WHERE p.request_id >= ?1 ORDER BY p.request_id",
-                   path_);
+  visit_records(first, std::numeric_limits<std::int64_t>::max(), false, visit);
+}
+
+void HistoryStore::for_each_scanned_record(
+    std::int64_t last, const std::function<void(const HistoryRecord&)>& visit) const {
+  visit_records(1, last, true, visit);
+}
+
+void HistoryStore::visit_records(std::int64_t first, std::int64_t last, bool scanned_only,
+                                 const std::function<void(const HistoryRecord&)>& visit) const {
+  // A format-1 history has no checksum columns: NULL stands in for them. Scanned parts are
+  // stored as a JSON object, the twin's own assemblies as an array.
+  const std::string sql = fmt::format(
+      "SELECT p.request_id, p.assembly, p.control, p.report, o.quality, o.estimate, "
+      "o.covariance, p.proposed_at, o.observed_at, {} FROM proposals p LEFT JOIN observations o "
+      "USING (request_id) WHERE p.request_id BETWEEN ?1 AND ?2{} ORDER BY p.request_id",
+      checksums_ ? "p.checksum, o.checksum" : "NULL, NULL",
+      scanned_only ? " AND substr(p.assembly, 1, 1) = '{'" : "");
+  Statement select(db_, sql.c_str(), path_);
   select.bind(1, first);
+  select.bind(2, last);
   HistoryRecord record;
-  const auto damage = [&](std::string_view table, std::string_view column,
-                          std::string_view what) {
+  const auto damage = [&](std::string_view table, std::string_view column, std::string_view what) {
     return HistoryDamageError(
         std::string(column),
         fmt::format("{}: request {}: {}.{} {}; rule: a history is read back as it was written "
@@ -394,14 +402,13 @@ void HistoryStore::for_each_record(std::int64_t first,
   std::int64_t expected = first;
   while (select.step()) {
     record.request_id = select.integer(0);
-    if (record.request_id != expected) {
-      throw damage("proposals", "request_id",
-                   fmt::format("follows request {}", expected - 1));
+    if (!scanned_only && record.request_id != expected) {
+      throw damage("proposals", "request_id", fmt::format("follows request {}", expected - 1));
     }
     ++expected;
     if (checksums_) {
-      const std::int64_t sum = proposal_checksum(record.request_id, select.text(1),
-                                                 select.text(2), select.text(3), select.text(7));
+      const std::int64_t sum = proposal_checksum(record.request_id, select.text(1), select.text(2),
+                                                 select.text(3), select.text(7));
       if (sum != select.integer(9)) {
         throw damage("proposals", "checksum",
                      fmt::format("is {}, the row's is {}", select.integer(9), sum));
@@ -452,6 +459,10 @@ std::int64_t HistoryStore::observation_checksum(std::int64_t request_id, double 
   return row_checksum(request_id, {quality_text(quality), estimate, covariance, observed_at});
 }
 
+std::int64_t HistoryStore::snapshot_checksum(std::int64_t request_id, std::string_view state) {
+  return row_checksum(request_id, {state});
+}
+
 std::int64_t HistoryStore::record_count() const {
   Statement count(db_, "SELECT count(*) FROM proposals", path_);
   count.step();
@@ -488,13 +499,12 @@ void HistoryStore::record_observation(std::int64_t request_id, double quality, c
 }
 
 void HistoryStore::record_snapshot(std::int64_t request_id, const json& state) {
-  Statement insert(db_,
-                   "INSERT INTO snapshots (request_id, state, checksum) VALUES (?1, ?2, ?3)",
+  Statement insert(db_, "INSERT INTO snapshots (request_id, state, checksum) VALUES (?1, ?2, ?3)",
                    path_);
   const std::string text = state.dump();
   insert.bind(1, request_id);
   insert.bind(2, text);
-  insert.bind(3, row_checksum(request_id, {text}));
+  insert.bind(3, snapshot_checksum(request_id, text));
   insert.step();
   require_same_files();
 }
@@ -512,7 +522,7 @@ HistorySnapshot read_snapshot(const Statement& select, const std::filesystem::pa
                     "written (a damaged or edited database cannot be resumed)",
                     path.string(), snapshot.request_id, column, what));
   };
-  const std::int64_t sum = row_checksum(snapshot.request_id, {text});
+  const std::int64_t sum = HistoryStore::snapshot_checksum(snapshot.request_id, text);
   if (sum != select.integer(2)) {
     throw damage("checksum", fmt::format("is {}, the row's is {}", select.integer(2), sum));
   }

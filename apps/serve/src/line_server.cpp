@@ -1,14 +1,17 @@
-// serve_stream and serve_tcp (line_server.hpp).
+// serve_stream and serve_connections (line_server.hpp).
 #include "twincal/serve/line_server.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
 #include <cerrno>
 #include <cstring>
 #include <deque>
+#include <filesystem>
 #include <memory>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -22,6 +25,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/address_v4.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/local/stream_protocol.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
 #if defined(__GNUC__) && !defined(__clang__)
@@ -38,6 +42,7 @@ namespace {
 
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
+using local = asio::local::stream_protocol;
 using boost::system::error_code;
 
 void write_all(int fd, std::string_view text) {
@@ -62,27 +67,43 @@ bool same_secret(std::string_view given, std::string_view expected) noexcept {
   return difference == 0U;
 }
 
+// Who is on the other end, for the log of a refused token.
+std::string peer_name(const tcp::socket& socket) {
+  error_code ignored;
+  const tcp::endpoint peer = socket.remote_endpoint(ignored);
+  return fmt::format("{}:{}", peer.address().to_string(), peer.port());
+}
+std::string peer_name(const local::socket&) { return "a local process"; }
+
 // One event loop for every connection: requests reach the one session in the order their lines
 // arrive, and a connection that is silent, slow or never reads its replies holds only its own
-// buffers (ListenOptions' limits).
-class TcpServer {
+// buffers (ListenOptions' limits). Protocol: TCP or a Unix-domain stream socket.
+template <typename Protocol>
+class LineServer {
  public:
-  // Binds and listens; run() serves a session.
-  explicit TcpServer(const ListenOptions& options) : acceptor_(io_), options_(options) {
-    const tcp::endpoint endpoint(asio::ip::make_address_v4(options.host),
-                                 static_cast<unsigned short>(options.port));
+  using Socket = typename Protocol::socket;
+  using Acceptor = typename Protocol::acceptor;
+
+  // Binds `endpoint` and listens (`after_bind` runs between the two); run() serves a session.
+  template <typename AfterBind>
+  LineServer(const ListenOptions& options, const typename Protocol::endpoint& endpoint,
+             const std::string& where, AfterBind after_bind)
+      : acceptor_(io_), options_(options) {
     error_code error;
     acceptor_.open(endpoint.protocol(), error);
-    if (!error) acceptor_.set_option(tcp::acceptor::reuse_address(true), error);
+    if (!error && std::is_same_v<Protocol, tcp>) {
+      acceptor_.set_option(typename Acceptor::reuse_address(true), error);
+    }
     if (!error) acceptor_.bind(endpoint, error);
+    if (!error) after_bind(error);
     if (!error) acceptor_.listen(asio::socket_base::max_listen_connections, error);
     if (error) {
-      throw Error("listen", fmt::format("listen: cannot listen on {}:{} ({})", options.host,
-                                        options.port, error.message()));
+      throw Error("listen",
+                  fmt::format("listen: cannot listen on {} ({})", where, error.message()));
     }
   }
 
-  [[nodiscard]] int port() const { return acceptor_.local_endpoint().port(); }
+  [[nodiscard]] const Acceptor& acceptor() const noexcept { return acceptor_; }
 
   // Until a shutdown request's reply is written; rethrows HistoryStoreError.
   void run(ServeSession& session) {
@@ -95,25 +116,26 @@ class TcpServer {
   class Connection;
 
   void accept() {
-    acceptor_.async_accept([this](const error_code& error, tcp::socket socket) {
+    acceptor_.async_accept([this](const error_code& error, Socket socket) {
       if (session_->finished()) return;
       if (!error) admit(std::move(socket));
       accept();
     });
   }
 
-  void admit(tcp::socket socket);
+  void admit(Socket socket);
 
   asio::io_context io_;
-  tcp::acceptor acceptor_;
+  Acceptor acceptor_;
   ServeSession* session_ = nullptr;  // set by run()
   ListenOptions options_;
   int open_ = 0;
 };
 
-class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
+template <typename Protocol>
+class LineServer<Protocol>::Connection : public std::enable_shared_from_this<Connection> {
  public:
-  Connection(TcpServer& server, tcp::socket socket)
+  Connection(LineServer& server, Socket socket)
       : server_(server), socket_(std::move(socket)), timer_(server.io_) {
     ++server_.open_;
   }
@@ -126,7 +148,7 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
  private:
   void read() {
     socket_.async_read_some(asio::buffer(chunk_),
-                            [self = shared_from_this()](const error_code& error, std::size_t n) {
+                            [self = this->shared_from_this()](const error_code& error, std::size_t n) {
                               self->on_read(error, n);
                             });
   }
@@ -171,10 +193,8 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
       queue(nlohmann::json{{"ok", true}, {"op", "authenticate"}}.dump());
       return;
     }
-    error_code ignored;
-    const tcp::endpoint peer = socket_.remote_endpoint(ignored);
-    fmt::print(stderr, "twincal serve: refused a connection from {}:{}: no valid token\n",
-               peer.address().to_string(), peer.port());
+    fmt::print(stderr, "twincal serve: refused a connection from {}: no valid token\n",
+               peer_name(socket_));
     queue(nlohmann::json{{"ok", false},
                          {"op", "authenticate"},
                          {"error",
@@ -202,7 +222,7 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
 
   void write() {
     asio::async_write(socket_, asio::buffer(out_.front()),
-                      [self = shared_from_this()](const error_code& error, std::size_t) {
+                      [self = this->shared_from_this()](const error_code& error, std::size_t) {
                         self->on_written(error);
                       });
   }
@@ -226,7 +246,7 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
 
   void arm_timer() {
     timer_.expires_after(server_.options_.idle_timeout);
-    timer_.async_wait([weak = weak_from_this()](const error_code& error) {
+    timer_.async_wait([weak = this->weak_from_this()](const error_code& error) {
       if (error) return;  // re-armed or cancelled
       if (const auto self = weak.lock()) self->close();
     });
@@ -237,13 +257,13 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
     closed_ = true;
     --server_.open_;
     error_code ignored;
-    socket_.shutdown(tcp::socket::shutdown_both, ignored);
+    socket_.shutdown(Socket::shutdown_both, ignored);
     socket_.close(ignored);
     timer_.cancel();
   }
 
-  TcpServer& server_;
-  tcp::socket socket_;
+  LineServer& server_;
+  Socket socket_;
   asio::steady_timer timer_;
   std::array<char, 1 << 16> chunk_{};
   LineSplitter splitter_;
@@ -254,7 +274,8 @@ class TcpServer::Connection : public std::enable_shared_from_this<Connection> {
   bool authenticated_ = !server_.options_.token.has_value();
 };
 
-void TcpServer::admit(tcp::socket socket) {
+template <typename Protocol>
+void LineServer<Protocol>::admit(Socket socket) {
   if (open_ >= options_.max_connections) {
     const nlohmann::json refusal = {
         {"ok", false},
@@ -294,6 +315,17 @@ void serve_stream(ServeSession& session, int in_fd, int out_fd) {
 }
 
 std::optional<std::string> ListenOptions::validate() const {
+  if (unix_socket) {
+    // sockaddr_un's sun_path holds 108 bytes with its terminating NUL.
+    if (unix_socket->empty() || unix_socket->string().size() > 107) {
+      return fmt::format("unix_socket: is \"{}\" ({} bytes); rule: a path of 1 … 107 bytes",
+                         unix_socket->string(), unix_socket->string().size());
+    }
+    if ((unix_socket_mode & ~0777U) != 0U) {
+      return fmt::format("unix_socket_mode: is {:o}; rule: permission bits only (e.g. 600)",
+                         unix_socket_mode);
+    }
+  }
   error_code error;
   const asio::ip::address_v4 address = asio::ip::make_address_v4(host, error);
   if (error) return fmt::format("host: is \"{}\"; rule: an IPv4 address such as 127.0.0.1", host);
@@ -307,7 +339,7 @@ std::optional<std::string> ListenOptions::validate() const {
   if (token && token->size() < 16) {
     return fmt::format("token: has {} characters; rule: at least 16", token->size());
   }
-  if (!address.is_loopback() && !token) {
+  if (!unix_socket && !address.is_loopback() && !token) {
     return fmt::format(
         "host: is {}; rule: listening beyond loopback (127.0.0.0/8) needs a token "
         "(--token-file): a cell controller takes orders only from the cell",
@@ -320,18 +352,79 @@ std::optional<std::string> ListenOptions::validate() const {
   return std::nullopt;
 }
 
-void serve_tcp(const ListenOptions& options, const std::function<ServeSession&()>& open_session,
-               const std::function<void(int port)>& on_listening) {
+namespace {
+
+// The socket file of a Unix-domain listener: a stale one (no server behind it) is replaced, a
+// live one or any other file is refused; the file is removed when the server ends.
+class UnixSocketFile {
+ public:
+  explicit UnixSocketFile(std::filesystem::path path) : path_(std::move(path)) {
+    struct stat status {};
+    if (::lstat(path_.c_str(), &status) != 0) return;  // free
+    if (!S_ISSOCK(status.st_mode)) {
+      throw Error("listen", fmt::format("listen: {} exists and is not a socket; rule: --listen "
+                                        "unix:PATH creates the socket file",
+                                        path_.string()));
+    }
+    asio::io_context io;
+    local::socket probe(io);
+    error_code error;
+    probe.connect(local::endpoint(path_.string()), error);
+    if (!error) {
+      throw Error("listen",
+                  fmt::format("listen: {} is in use by a running server", path_.string()));
+    }
+    std::filesystem::remove(path_);  // left by a server that was killed
+  }
+  UnixSocketFile(const UnixSocketFile&) = delete;
+  UnixSocketFile& operator=(const UnixSocketFile&) = delete;
+  ~UnixSocketFile() {
+    if (bound_) {
+      std::error_code ignored;
+      std::filesystem::remove(path_, ignored);
+    }
+  }
+  void bound() noexcept { bound_ = true; }
+
+ private:
+  std::filesystem::path path_;
+  bool bound_ = false;
+};
+
+}  // namespace
+
+void serve_connections(const ListenOptions& options,
+                       const std::function<ServeSession&()>& open_session,
+                       const std::function<void(int port)>& on_listening) {
   require_valid("listen", options);
-  TcpServer server(options);
+  if (options.unix_socket) {
+    const std::string path = options.unix_socket->string();
+    UnixSocketFile file(*options.unix_socket);
+    // Only the owner may connect: the mode is set after bind(), before listen() accepts anyone.
+    LineServer<local> server(options, local::endpoint(path), path, [&](error_code& error) {
+      file.bound();
+      if (::chmod(path.c_str(), options.unix_socket_mode) != 0) {
+        error = error_code(errno, boost::system::system_category());
+      }
+    });
+    ServeSession& session = open_session();
+    on_listening(0);
+    server.run(session);
+    return;
+  }
+  const tcp::endpoint endpoint(asio::ip::make_address_v4(options.host),
+                               static_cast<unsigned short>(options.port));
+  LineServer<tcp> server(options, endpoint, fmt::format("{}:{}", options.host, options.port),
+                         [](error_code&) {});
   ServeSession& session = open_session();
-  on_listening(server.port());
+  on_listening(server.acceptor().local_endpoint().port());
   server.run(session);
 }
 
-void serve_tcp(ServeSession& session, const ListenOptions& options,
-               const std::function<void(int port)>& on_listening) {
-  serve_tcp(options, [&]() -> ServeSession& { return session; }, on_listening);
+void serve_connections(ServeSession& session, const ListenOptions& options,
+                       const std::function<void(int port)>& on_listening) {
+  serve_connections(
+      options, [&]() -> ServeSession& { return session; }, on_listening);
 }
 
 }  // namespace twincal

@@ -1,6 +1,7 @@
 // ServeSession (serve_session.hpp): the protocol, the history and its replay.
 #include "twincal/serve/serve_session.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <utility>
@@ -20,6 +21,8 @@ namespace {
 using nlohmann::json;
 
 constexpr const char* operations = "propose, observe, predict, state, checkpoint, shutdown";
+// The "format" of a snapshot's state (serve_session.hpp, snapshot_json).
+constexpr const char* snapshot_format = "twincal.serve_snapshot.1";
 
 // JSON has no NaN: a non-finite entry (a controller without P) is null, in replies and in the
 // history alike, so a replay compares like with like.
@@ -82,6 +85,18 @@ std::optional<std::string> ServeOptions::validate() const {
            "rule: twincal serve's plant is the cell, so a served config sets none";
   }
   if (run < 0) return fmt::format("run: is {}; rule: must be >= 0", run);
+  if (snapshot_interval < 0) {
+    return fmt::format("snapshot_interval: is {}; rule: must be >= 0 (0: no snapshots)",
+                       snapshot_interval);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> ResumeOptions::validate() const {
+  if (snapshot_interval < 0) {
+    return fmt::format("snapshot_interval: is {}; rule: must be >= 0 (0: no snapshots)",
+                       snapshot_interval);
+  }
   return std::nullopt;
 }
 
@@ -110,7 +125,7 @@ ServeSession ServeSession::start(const ServeOptions& options,
   return {options, std::move(twin), std::move(store)};
 }
 
-ServeSession ServeSession::from_settings(HistoryStore store, Durability durability) {
+ServeSession ServeSession::from_settings(HistoryStore store, const ResumeOptions& resume) {
   const json settings = store.settings();
   const std::string database = store.path().string();
   ServeOptions options;
@@ -122,20 +137,32 @@ ServeSession ServeSession::from_settings(HistoryStore store, Durability durabili
     throw HistoryStoreError(
         database, fmt::format("{}: its settings cannot be read ({})", database, error.what()));
   }
-  options.durability = durability;
+  options.durability = resume.durability;
+  options.snapshot_interval = resume.snapshot_interval;
   return {options, std::make_unique<CaseTwin>(make_case_twin(options.config)), std::move(store)};
 }
 
-ServeSession ServeSession::resume(const std::filesystem::path& database, Durability durability) {
-  ServeSession session = from_settings(HistoryStore::open(database, durability), durability);
-  session.replay();
+ServeSession ServeSession::resume(const std::filesystem::path& database,
+                                  const ResumeOptions& options) {
+  require_valid("options", options);
+  ServeSession session = from_settings(HistoryStore::open(database, options.durability), options);
+  if (options.verify_all) {
+    (void)session.replay(/*verify_snapshots=*/true);
+  } else {
+    session.restore_last_snapshot(/*register_scanned=*/true);
+    (void)session.replay();
+  }
   return session;
 }
 
+ServeSession ServeSession::resume(const std::filesystem::path& database, Durability durability) {
+  return resume(database, ResumeOptions{.durability = durability});
+}
+
 HistoryCheck ServeSession::check(const std::filesystem::path& database) {
-  ServeSession session = from_settings(HistoryStore::open_read_only(database), Durability::full);
-  session.replay();
-  return {session.next_request_ - 1, session.observed_, session.pending_.has_value()};
+  ServeSession session = from_settings(HistoryStore::open_read_only(database), ResumeOptions{});
+  const std::int64_t snapshots = session.replay(/*verify_snapshots=*/true);
+  return {session.next_request_ - 1, session.observed_, snapshots, session.pending_.has_value()};
 }
 
 std::string ServeSession::oversized_reply(std::size_t bytes) {
@@ -197,11 +224,13 @@ json ServeSession::dispatch(const std::string& op, const json& request) {
   }
   if (op == "checkpoint") {
     require_keys(request, op, {});
+    snapshot_if_due(/*now=*/true);
     const std::uintmax_t bytes = store_.checkpoint();
     return {{"ok", true}, {"op", op}, {"database", store_.path().string()}, {"bytes", bytes}};
   }
   if (op == "shutdown") {
     require_keys(request, op, {});
+    snapshot_if_due(/*now=*/true);
     finished_ = true;
     return {{"ok", true}, {"op", op}, {"observed", observed_}};
   }
@@ -373,6 +402,7 @@ json ServeSession::observe(const json& request) {
   store_.record_observation(request_id, quality, estimate, covariance);
   pending_.reset();
   ++observed_;
+  snapshot_if_due(/*now=*/false);
   return {{"ok", true},           {"op", "observe"},          {"request_id", request_id},
           {"estimate", estimate}, {"covariance", covariance}, {"observed", observed_}};
 }
@@ -420,9 +450,14 @@ json ServeSession::state() const {
           {"database", store_.path().string()}};
 }
 
-void ServeSession::replay() {
+std::int64_t ServeSession::replay(bool verify_snapshots) {
   const std::string database = store_.path().string();
   std::int64_t unobserved = 0;  // a request without its observation, which must be the last
+  // The snapshots to compare, ascending; the replay passes them in order.
+  const std::vector<std::int64_t> snapshots =
+      verify_snapshots ? store_.snapshot_requests() : std::vector<std::int64_t>{};
+  auto next_snapshot = std::lower_bound(snapshots.begin(), snapshots.end(), next_request_);
+  std::int64_t compared = 0;
   store_.for_each_record(next_request_, [&](const HistoryRecord& record) {
     const auto mismatch = [&](std::string_view what) {
       return HistoryMismatchError(
@@ -461,7 +496,90 @@ void ServeSession::replay() {
     if (estimate_json() != record.estimate) throw mismatch("estimate");
     if (covariance_json() != record.covariance) throw mismatch("covariance");
     ++observed_;
+    if (next_snapshot != snapshots.end() && *next_snapshot == record.request_id) {
+      const json stored = store_.snapshot(record.request_id).state;
+      // Comparable when the snapshot's process had the replay's scanned ids (restore above).
+      if (!stored.is_object() || stored.value("scanned", Index{-1}) == twin_->scanned_count()) {
+        if (snapshot_json().dump() != stored.dump()) throw mismatch("snapshot");
+        ++compared;
+      }
+      last_snapshot_ = record.request_id;
+      ++next_snapshot;
+    }
   });
+  if (next_snapshot != snapshots.end()) {
+    throw HistoryMismatchError(
+        "snapshot", fmt::format("{}: has a snapshot after request {}, which was not replayed; "
+                                "rule: a snapshot follows an observation",
+                                database, *next_snapshot));
+  }
+  return compared;
+}
+
+void ServeSession::restore_last_snapshot(bool register_scanned) {
+  const std::optional<HistorySnapshot> snapshot = store_.last_snapshot();
+  if (!snapshot) return;
+  const std::string database = store_.path().string();
+  const auto mismatch = [&](const std::string& why) {
+    return HistoryMismatchError(
+        "snapshot",
+        fmt::format("{}: the snapshot after request {} cannot be restored ({}); rule: a history "
+                    "resumes with the twincal build that wrote it (--verify-all replays it "
+                    "whole instead)",
+                    database, snapshot->request_id, why));
+  };
+  // Scanned assemblies take their ids in the order they first arrived: registered again in
+  // that order, they get the ids the snapshot's controller refers to.
+  if (register_scanned) {
+    try {
+      store_.for_each_scanned_record(snapshot->request_id, [&](const HistoryRecord& record) {
+        (void)recorded_assembly(record.assembly);
+      });
+    } catch (const HistoryStoreError&) {
+      throw;
+    } catch (const std::exception& error) {
+      throw mismatch(error.what());
+    }
+  }
+  const json& state = snapshot->state;
+  if (!state.is_object() || state.value("format", "") != snapshot_format ||
+      state.value("request_id", std::int64_t{-1}) != snapshot->request_id ||
+      !state.contains("controller") || !state.contains("scanned")) {
+    throw mismatch("not a twincal serve snapshot of this request");
+  }
+  // The controller refers to scanned assemblies by id. The proposals registered here give the
+  // ids the snapshot's process gave unless that process also registered parts it was only asked
+  // to `predict`: then its ids differ, and the whole history is replayed instead (its ids are
+  // the proposals' own).
+  if (state.at("scanned") != twin_->scanned_count()) return;
+  try {
+    controller_.restore(state.at("controller"));
+  } catch (const std::exception& error) {
+    throw mismatch(error.what());
+  }
+  next_request_ = snapshot->request_id + 1;
+  observed_ = snapshot->request_id;
+  last_snapshot_ = snapshot->request_id;
+  trusted_snapshot_ = snapshot->request_id;
+  pending_.reset();
+}
+
+json ServeSession::snapshot_json() const {
+  return {{"format", snapshot_format},
+          {"request_id", next_request_ - 1},
+          {"scanned", twin_->scanned_count()},
+          {"controller", controller_.save()}};
+}
+
+void ServeSession::snapshot_if_due(bool now) {
+  const std::int64_t last = next_request_ - 1;  // observed, as nothing is pending
+  if (options_.snapshot_interval == 0 || pending_ || observed_ == 0 || last_snapshot_ == last) {
+    return;
+  }
+  if (!now && observed_ % options_.snapshot_interval != 0) return;
+  store_.record_snapshot(last, snapshot_json());
+  last_snapshot_ = last;
+  if (trusted_snapshot_ == 0) trusted_snapshot_ = last;
 }
 
 void ServeSession::require_sound_state(double quality) const {
@@ -490,7 +608,14 @@ void ServeSession::rebuild() {
   pending_.reset();
   next_request_ = 1;
   observed_ = 0;
-  replay();
+  last_snapshot_ = 0;
+  // A snapshot this process took or restored shares this twin's scanned ids; an older one
+  // (resume replayed the whole history instead of restoring it) may not.
+  if (const std::optional<HistorySnapshot> last = store_.last_snapshot();
+      last && last->request_id >= trusted_snapshot_ && trusted_snapshot_ > 0) {
+    restore_last_snapshot(/*register_scanned=*/false);  // the twin has them already
+  }
+  (void)replay();
 }
 
 }  // namespace twincal

@@ -43,16 +43,19 @@
 #include <exception>
 #include <limits>
 #include <optional>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
 
 #include "twincal/controllers/active_options.hpp"
 #include "twincal/controllers/constant_velocity_estimator.hpp"
 #include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
@@ -140,7 +143,10 @@ class ActiveCalibrationController {
     check_margin_ = options_.surrogate.step_fraction * width;
     covariance_ceiling_ = std::pow(options_.covariance_ceiling_fraction * width.minCoeff(), 2);
     probe_vector_.resize(d);
-    control_.resize(d);
+    control_.setZero(d);  // defined before the first proposal: snapshots save it
+    model_.center.setZero(d);
+    model_.half_gradient.setZero(d);
+    model_.hessian.setZero(d, d);
     model_center_.resize(d);
     check_points_.resize(d, 2);
     recent_innovations_.assign(static_cast<std::size_t>(options_.trajectory.change_window) + 3,
@@ -303,6 +309,166 @@ class ActiveCalibrationController {
   [[nodiscard]] const ActiveStepReport& last_step() const noexcept { return step_; }
   /// The model of the last proposal (valid when last_step().quadratic).
   [[nodiscard]] const QuadraticModel<N>& model() const noexcept { return model_; }
+
+  static constexpr std::string_view json_format = "twincal.active_controller";
+
+  /// Everything that carries over from one assembly to the next: the estimate δû, P and q; the
+  /// estimator (its history, snapshots, prior and misfit medians), the surrogate's kept H and
+  /// its age, the probe's stream; the counters (assemblies, the pending proposal's time, the
+  /// retry of the quadratic model); the pending proposal (u_t, whether its model held, the
+  /// model, which observe updates with); the do-no-harm rings (normalized innovations, the
+  /// audit's regrets and counts); the assemblies kept for relinearization; and the last
+  /// proposal's reports. Not the workspaces (sigma points, check points, the eigensolver of the
+  /// covariance bound, the relinearization candidates), which are rewritten before they are
+  /// read, nor the settings derived from the twin's box.
+  [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
+    using json_state::doubles_to_json;
+    using json_state::number_to_json;
+    nlohmann::json saved{
+        {"format", json_format},
+        {"dimension", dimension()},
+        {"mean", doubles_to_json(mean_)},
+        {"covariance", json_state::matrix_to_json(covariance_)},
+        {"process_variance", number_to_json(process_variance_)},
+        {"assemblies", assemblies_},
+        {"time", time_},
+        {"retry_at", retry_at_},
+        {"restarted", restarted_},
+        {"quadratic", quadratic_},
+        {"pending", pending_},
+        {"control", doubles_to_json(control_)},
+        {"model", json_state::model_to_json(model_)},
+        {"recent_innovations", doubles_to_json(recent_innovations_)},
+        {"innovation_count", innovation_count_},
+        {"regrets", {doubles_to_json(regrets_[0]), doubles_to_json(regrets_[1])}},
+        {"audit_counts", {audit_counts_[0], audit_counts_[1]}},
+        {"audits", audits_},
+        {"report", json_state::report_to_json(report_)},
+        {"step", step_to_json(step_)},
+        {"surrogate", surrogate_.save()},
+        {"probe", probe_.save()},
+        {"estimator", estimator_.save()}};
+    nlohmann::json kept = nlohmann::json::array();
+    if constexpr (TwinWithKeptAssemblies<T>) {
+      for (std::size_t slot = 0; slot < kept_times_.size(); ++slot) {
+        if (kept_times_[slot] < 0) continue;
+        kept.push_back({{"slot", slot},
+                        {"time", kept_times_[slot]},
+                        {"assembly", json_state::assembly_to_json(kept_assemblies_[slot])}});
+      }
+    }
+    saved["kept_assemblies"] = std::move(kept);
+    return saved;
+  }
+
+  /// Restores a snapshot of save() into a controller built like the saved one (same twin,
+  /// options, probe and scheme; kept assemblies must be assemblies of the twin).
+  /// @throws InvalidArgumentError, DimensionMismatchError, NonFiniteError naming the field
+  ///         ("estimator.history[4].quality"); the controller unchanged.
+  void restore(const nlohmann::json& saved) requires SnapshotProbe<Probe> {
+    using json_state::field;
+    using json_state::read_bool;
+    using json_state::read_integer_field;
+    const Index d = dimension();
+    json_state::require_header(saved, json_format, d);
+    ControlVector mean(d);
+    json_state::read_doubles(field(saved, "mean"), "mean", mean);
+    CovarianceMatrix covariance(d, d);
+    json_state::read_matrix(field(saved, "covariance"), "covariance", covariance);
+    const double process_variance = json_state::read_double_field(saved, "process_variance");
+    const Index assemblies = read_integer_field(saved, "assemblies", 0);
+    const Index time = read_integer_field(saved, "time", 0);
+    const Index retry_at = read_integer_field(saved, "retry_at", 0);
+    const bool restarted = read_bool(saved, "restarted");
+    const bool quadratic = read_bool(saved, "quadratic");
+    const bool pending = read_bool(saved, "pending");
+    ControlVector control(d);
+    json_state::read_doubles(field(saved, "control"), "control", control);
+    const nlohmann::json& saved_model = field(saved, "model");
+    QuadraticModel<N> model = json_state::within(
+        "model", [&] { return json_state::read_model<N>(saved_model, d); });
+    std::vector<double> recent_innovations = recent_innovations_;
+    json_state::read_doubles(field(saved, "recent_innovations"), "recent_innovations",
+                             recent_innovations);
+    const auto innovation_count =
+        static_cast<std::size_t>(json_state::read_count(saved, "innovation_count"));
+    const nlohmann::json& saved_regrets =
+        json_state::require_array(field(saved, "regrets"), "regrets", 2);
+    const nlohmann::json& saved_counts =
+        json_state::require_array(field(saved, "audit_counts"), "audit_counts", 2);
+    std::array<std::vector<double>, 2> regrets = regrets_;
+    std::array<std::size_t, 2> audit_counts{};
+    for (std::size_t arm = 0; arm < 2; ++arm) {
+      json_state::read_doubles(saved_regrets[arm], fmt::format("regrets[{}]", arm), regrets[arm]);
+      audit_counts[arm] = static_cast<std::size_t>(
+          json_state::read_integer(saved_counts[arm], fmt::format("audit_counts[{}]", arm), 0));
+    }
+    const std::uint64_t audits = json_state::read_count(saved, "audits");
+    const nlohmann::json& saved_report = field(saved, "report");
+    ProposalReport report =
+        json_state::within("report", [&] { return json_state::read_report(saved_report, d); });
+    const nlohmann::json& saved_step = field(saved, "step");
+    const ActiveStepReport step = json_state::within("step", [&] { return read_step(saved_step); });
+    std::vector<Assembly> kept_assemblies;
+    std::vector<Index> kept_times;
+    const nlohmann::json& saved_kept =
+        json_state::require_array(field(saved, "kept_assemblies"), "kept_assemblies");
+    if constexpr (TwinWithKeptAssemblies<T>) {
+      kept_assemblies = kept_assemblies_;
+      kept_times.assign(kept_times_.size(), -1);
+      for (std::size_t i = 0; i < saved_kept.size(); ++i) {
+        json_state::within(fmt::format("kept_assemblies[{}]", i), [&] {
+          const nlohmann::json& entry = saved_kept[i];
+          const auto slot = static_cast<std::size_t>(
+              read_integer_field(entry, "slot", 0, std::ssize(kept_times) - 1));
+          kept_times[slot] = read_integer_field(entry, "time", 0);
+          json_state::read_assembly(field(entry, "assembly"), "assembly", kept_assemblies[slot]);
+        });
+      }
+    } else {
+      require_dimension("kept_assemblies", std::ssize(saved_kept), 0);
+    }
+    const nlohmann::json& saved_surrogate = field(saved, "surrogate");
+    const nlohmann::json& saved_probe = field(saved, "probe");
+    const nlohmann::json& saved_estimator = field(saved, "estimator");
+    QuadraticSurrogate<T, N> surrogate = surrogate_;
+    json_state::within("surrogate", [&] { surrogate.restore(saved_surrogate); });
+    // The probe and then the estimator, each all or nothing; the probe goes back to where it
+    // was if the estimator's part is refused.
+    const nlohmann::json probe_before = probe_.save();
+    json_state::within("probe", [&] { probe_.restore(saved_probe); });
+    try {
+      json_state::within("estimator", [&] { estimator_.restore(saved_estimator); });
+    } catch (...) {
+      probe_.restore(probe_before);
+      throw;
+    }
+
+    // Nothing throws from here on.
+    surrogate_ = std::move(surrogate);
+    mean_ = mean;
+    covariance_ = covariance;
+    process_variance_ = process_variance;
+    assemblies_ = assemblies;
+    time_ = time;
+    retry_at_ = retry_at;
+    restarted_ = restarted;
+    quadratic_ = quadratic;
+    pending_ = pending;
+    control_ = control;
+    model_ = std::move(model);
+    recent_innovations_.swap(recent_innovations);
+    innovation_count_ = innovation_count;
+    regrets_.swap(regrets);
+    audit_counts_ = audit_counts;
+    audits_ = audits;
+    if constexpr (TwinWithKeptAssemblies<T>) {
+      kept_assemblies_.swap(kept_assemblies);
+      kept_times_.swap(kept_times);
+    }
+    report_ = std::move(report);
+    step_ = step;
+  }
 
  private:
   // Fits the quadratic model at model_center_ and checks it at model_center_ ± (2·sqrt(diag P)
@@ -530,6 +696,44 @@ class ActiveCalibrationController {
     const double excess = std::clamp(nis - 1.0, -1.0, 3.0);
     process_variance_ = std::clamp(process_variance_ * std::exp(options_.adaptation_rate * excess),
                                    options_.min_process_variance, options_.max_process_variance);
+  }
+
+  [[nodiscard]] static nlohmann::json step_to_json(const ActiveStepReport& step) {
+    using json_state::number_to_json;
+    return {{"quadratic", step.quadratic},
+            {"model_error", number_to_json(step.model_error)},
+            {"model_variance", number_to_json(step.model_variance)},
+            {"hessian_refitted", step.hessian_refitted},
+            {"probe_norm", number_to_json(step.probe_norm)},
+            {"horizon", number_to_json(step.horizon)},
+            {"process_variance", number_to_json(step.process_variance)},
+            {"normalized_innovation", number_to_json(step.normalized_innovation)},
+            {"gated", step.gated},
+            {"velocity_change", step.velocity_change},
+            {"history", step.history},
+            {"corrected", step.corrected},
+            {"audited", step.audited}};
+  }
+
+  [[nodiscard]] static ActiveStepReport read_step(const nlohmann::json& saved) {
+    using json_state::read_bool;
+    using json_state::read_double_field;
+    using json_state::Values;
+    ActiveStepReport step;
+    step.quadratic = read_bool(saved, "quadratic");
+    step.model_error = read_double_field(saved, "model_error", Values::any);
+    step.model_variance = read_double_field(saved, "model_variance", Values::any);
+    step.hessian_refitted = read_bool(saved, "hessian_refitted");
+    step.probe_norm = read_double_field(saved, "probe_norm", Values::any);
+    step.horizon = read_double_field(saved, "horizon", Values::any);
+    step.process_variance = read_double_field(saved, "process_variance", Values::any);
+    step.normalized_innovation = read_double_field(saved, "normalized_innovation", Values::any);
+    step.gated = read_bool(saved, "gated");
+    step.velocity_change = read_bool(saved, "velocity_change");
+    step.history = json_state::read_integer_field(saved, "history", 0);
+    step.corrected = read_bool(saved, "corrected");
+    step.audited = read_bool(saved, "audited");
+    return step;
   }
 
   // Floor and ceiling on P's eigenvalues (P stays symmetric positive definite and never claims

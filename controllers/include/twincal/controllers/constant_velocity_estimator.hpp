@@ -43,14 +43,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
 
 #include "twincal/controllers/constant_velocity_options.hpp"
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/quadratic_model.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -355,6 +358,207 @@ class ConstantVelocityEstimator {
     model_variances_(s) = model_variance;
   }
 
+  static constexpr std::string_view json_format = "twincal.constant_velocity_estimator";
+
+  /// Everything a later add(), fit() or relinearize() reads: the history (each entry at its ring
+  /// slot, so that every later sum runs over the same memory in the same order; an entry's H
+  /// written once for a run of equal ones), the last H added as fitted, the estimates of the
+  /// last change_lag + 1 fits, the prior, the estimate with its flags and counters, and the
+  /// misfit scales with their ring. Not the workspaces of a fit (Gauss–Newton buffers, shifted
+  /// prior, factorizations), which every fit rewrites before reading them, nor the weights
+  /// 1/(σz² + τ²), recomputed from τ².
+  [[nodiscard]] nlohmann::json save() const {
+    using json_state::doubles_to_json;
+    using json_state::matrix_to_json;
+    using json_state::number_to_json;
+    const Index d = dimension();
+    nlohmann::json history = nlohmann::json::array();
+    nlohmann::json hessians = nlohmann::json::array();
+    for (Index i = 0; i < size_; ++i) {
+      const Index s = slot(i);
+      if (i == 0 || hessians_.middleCols(s * d, d) != hessians_.middleCols(slot(i - 1) * d, d)) {
+        hessians.push_back(matrix_to_json(hessians_.middleCols(s * d, d)));
+      }
+      history.push_back({{"time", times_[static_cast<std::size_t>(s)]},
+                         {"applied", doubles_to_json(applied_.col(s))},
+                         {"control", doubles_to_json(controls_.col(s))},
+                         {"value", number_to_json(values_(s))},
+                         {"half_gradient", doubles_to_json(half_gradients_.col(s))},
+                         {"hessian", hessians.size() - 1},
+                         {"quality", number_to_json(qualities_(s))},
+                         {"model_variance", number_to_json(model_variances_(s))}});
+    }
+    nlohmann::json snapshots = nlohmann::json::array();
+    const Index kept_snapshots = std::min<Index>(snapshots_, options_.change_lag + 1);
+    for (Index i = 0; i < kept_snapshots; ++i) {
+      snapshots.push_back({{"time", snapshot_times_[static_cast<std::size_t>(i)]},
+                           {"state", doubles_to_json(snapshot_states_.col(i))},
+                           {"covariance", matrix_to_json(snapshot_covariances_.middleCols(i * d, d))}});
+    }
+    return {{"format", json_format},
+            {"dimension", d},
+            {"max_history", options_.max_history},
+            {"head", head_},
+            {"history", std::move(history)},
+            {"hessians", std::move(hessians)},
+            {"last_hessian", size_ > 0 ? matrix_to_json(last_hessian_) : nlohmann::json(nullptr)},
+            {"snapshot_count", snapshots_},
+            {"snapshots", std::move(snapshots)},
+            {"prior_mean", doubles_to_json(prior_mean_)},
+            {"prior_covariance", matrix_to_json(prior_covariance_)},
+            {"prior_time", prior_time_},
+            {"state", doubles_to_json(state_)},
+            {"covariance", matrix_to_json(covariance_)},
+            {"fit_time", fit_time_},
+            {"fitted", fitted_},
+            {"changes", changes_},
+            {"changed", changed_},
+            {"significant", significant_},
+            {"misfit", model_misfit_.save()},
+            {"residual_scale", number_to_json(residual_scale_)}};
+  }
+
+  /// Restores a snapshot of save() into an estimator of the same box, σz² and options.
+  /// @throws InvalidArgumentError, DimensionMismatchError, NonFiniteError naming the field
+  ///         ("history[3].quality"); the estimator unchanged.
+  void restore(const nlohmann::json& saved) {
+    using json_state::field;
+    using json_state::read_bool;
+    using json_state::read_double_field;
+    using json_state::read_integer_field;
+    const Index d = dimension();
+    const Index s = 2 * d;
+    const Index capacity = options_.max_history;
+    const Index lags = options_.change_lag + 1;
+    json_state::require_header(saved, json_format, d);
+    require_dimension("max_history", read_integer_field(saved, "max_history"), capacity);
+    const Index head = read_integer_field(saved, "head", 0, capacity - 1);
+
+    // The history into copies of the ring buffers, each entry at its slot.
+    const nlohmann::json& hessians =
+        json_state::require_array(field(saved, "hessians"), "hessians");
+    const nlohmann::json& history = json_state::require_array(field(saved, "history"), "history");
+    const auto size = static_cast<Index>(history.size());
+    if (size > capacity) {
+      throw InvalidArgumentError(
+          "history", fmt::format("history: has {} entries; rule: at most max_history, {}", size,
+                                 capacity));
+    }
+    std::vector<Index> times = times_;
+    Matrix<N, Dynamic> controls = controls_;
+    Matrix<N, Dynamic> applied = applied_;
+    VectorX values = values_;
+    Matrix<N, Dynamic> half_gradients = half_gradients_;
+    Matrix<N, Dynamic> ring_hessians = hessians_;
+    VectorX qualities = qualities_;
+    VectorX weights = weights_;
+    VectorX model_variances = model_variances_;
+    OffsetVector column(d);
+    OffsetMatrix hessian(d, d);
+    for (Index i = 0; i < size; ++i) {
+      json_state::within(fmt::format("history[{}]", i), [&] {
+        const nlohmann::json& entry = history[static_cast<std::size_t>(i)];
+        const Index at = (head + i) % capacity;
+        const Index time = read_integer_field(entry, "time");
+        if (i > 0 && time < times[static_cast<std::size_t>((head + i - 1) % capacity)]) {
+          throw InvalidArgumentError(
+              "time", fmt::format("time: is {}; rule: must be >= the previous entry's", time));
+        }
+        times[static_cast<std::size_t>(at)] = time;
+        json_state::read_doubles(field(entry, "applied"), "applied", column);
+        applied.col(at) = column;
+        json_state::read_doubles(field(entry, "control"), "control", column);
+        controls.col(at) = column;
+        values(at) = read_double_field(entry, "value");
+        json_state::read_doubles(field(entry, "half_gradient"), "half_gradient", column);
+        half_gradients.col(at) = column;
+        const Index which = read_integer_field(entry, "hessian", 0,
+                                               static_cast<Index>(hessians.size()) - 1);
+        json_state::read_matrix(hessians[static_cast<std::size_t>(which)],
+                                fmt::format("hessians[{}]", which), hessian);
+        ring_hessians.middleCols(at * d, d) = hessian;
+        qualities(at) = read_double_field(entry, "quality");
+        const double model_variance = read_double_field(entry, "model_variance");
+        require_non_negative("model_variance", model_variance);
+        model_variances(at) = model_variance;
+        weights(at) = 1.0 / (measurement_variance_ + model_variance);  // as add() forms it
+      });
+    }
+    OffsetMatrix last_hessian = last_hessian_;
+    if (size > 0) json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
+
+    // The snapshots of the last change_lag + 1 fits, at their slots.
+    const Index snapshot_count = read_integer_field(saved, "snapshot_count", 0);
+    const nlohmann::json& snapshots = json_state::require_array(
+        field(saved, "snapshots"), "snapshots", std::min(snapshot_count, lags));
+    std::vector<Index> snapshot_times = snapshot_times_;
+    Matrix<state_size, Dynamic> snapshot_states = snapshot_states_;
+    Matrix<N, Dynamic> snapshot_covariances = snapshot_covariances_;
+    StateVector state_column(s);
+    for (std::size_t i = 0; i < snapshots.size(); ++i) {
+      json_state::within(fmt::format("snapshots[{}]", i), [&] {
+        const auto at = static_cast<Index>(i);
+        snapshot_times[i] = read_integer_field(snapshots[i], "time");
+        json_state::read_doubles(field(snapshots[i], "state"), "state", state_column);
+        snapshot_states.col(at) = state_column;
+        json_state::read_matrix(field(snapshots[i], "covariance"), "covariance", hessian);
+        snapshot_covariances.middleCols(at * d, d) = hessian;
+      });
+    }
+
+    // The prior and the estimate.
+    StateVector prior_mean(s);
+    json_state::read_doubles(field(saved, "prior_mean"), "prior_mean", prior_mean);
+    StateMatrix prior_covariance(s, s);
+    json_state::read_matrix(field(saved, "prior_covariance"), "prior_covariance", prior_covariance);
+    const Index prior_time = read_integer_field(saved, "prior_time");
+    StateVector state(s);
+    json_state::read_doubles(field(saved, "state"), "state", state);
+    StateMatrix covariance(s, s);
+    json_state::read_matrix(field(saved, "covariance"), "covariance", covariance);
+    const Index fit_time = read_integer_field(saved, "fit_time");
+    const bool fitted = read_bool(saved, "fitted");
+    const Index changes = read_integer_field(saved, "changes", 0);
+    const bool changed = read_bool(saved, "changed");
+    const bool significant = read_bool(saved, "significant");
+    MedianMisfit misfit = model_misfit_;
+    const nlohmann::json& saved_misfit = field(saved, "misfit");
+    json_state::within("misfit", [&] { misfit.restore(saved_misfit); });
+    const double residual_scale = read_double_field(saved, "residual_scale");
+
+    // Nothing throws from here on.
+    times_.swap(times);
+    controls_.swap(controls);
+    applied_.swap(applied);
+    values_.swap(values);
+    half_gradients_.swap(half_gradients);
+    hessians_.swap(ring_hessians);
+    qualities_.swap(qualities);
+    weights_.swap(weights);
+    model_variances_.swap(model_variances);
+    head_ = head;
+    size_ = size;
+    last_hessian_ = last_hessian;
+    snapshot_times_.swap(snapshot_times);
+    snapshot_states_.swap(snapshot_states);
+    snapshot_covariances_.swap(snapshot_covariances);
+    snapshots_ = snapshot_count;
+    prior_mean_ = prior_mean;
+    prior_covariance_ = prior_covariance;
+    prior_time_ = prior_time;
+    state_ = state;
+    covariance_ = covariance;
+    position_ = state_.head(d);  // as finish() forms them
+    position_covariance_ = covariance_.topLeftCorner(d, d);
+    fit_time_ = fit_time;
+    fitted_ = fitted;
+    changes_ = changes;
+    changed_ = changed;
+    significant_ = significant;
+    model_misfit_ = std::move(misfit);
+    residual_scale_ = residual_scale;
+  }
+
  private:
   // Stores `hessian`, its negative eigenvalues clipped at 0, in ring slot i.
   void clip_hessian(const OffsetMatrix& hessian, Index i) {
@@ -642,6 +846,31 @@ class ConstantVelocityEstimator {
       scale_ = std::max(1.0, *middle / chi2_median);
     }
     [[nodiscard]] double scale() const noexcept { return scale_; }
+
+    // The entries of the ring that are in (the first min(n, count) slots), the count and the
+    // scale; the sorted copy is a workspace.
+    [[nodiscard]] nlohmann::json save() const {
+      const std::size_t kept = std::min(ring_.size(), count_);
+      nlohmann::json ring = nlohmann::json::array();
+      for (std::size_t i = 0; i < kept; ++i) ring.push_back(json_state::number_to_json(ring_[i]));
+      return {{"ring", std::move(ring)},
+              {"count", count_},
+              {"scale", json_state::number_to_json(scale_)}};
+    }
+    void restore(const nlohmann::json& saved) {
+      const std::uint64_t count = json_state::read_count(saved, "count");
+      const std::size_t kept = std::min<std::uint64_t>(ring_.size(), count);
+      const nlohmann::json& ring = json_state::require_array(json_state::field(saved, "ring"),
+                                                             "ring", static_cast<Index>(kept));
+      std::vector<double> values = ring_;
+      for (std::size_t i = 0; i < kept; ++i) {
+        values[i] = json_state::read_double(ring[i], fmt::format("ring[{}]", i));
+      }
+      const double scale = json_state::read_double_field(saved, "scale");
+      ring_.swap(values);
+      count_ = static_cast<std::size_t>(count);
+      scale_ = scale;
+    }
 
    private:
     std::vector<double> ring_;

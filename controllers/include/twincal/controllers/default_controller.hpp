@@ -4,11 +4,14 @@
 /// corrected by the filter's current offset estimate, with no deliberate exploration. It may
 /// lose track of the offset when the measurements stop exciting the filter (Sec. 2.3.2).
 
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
@@ -56,6 +59,33 @@ class DefaultController {
   [[nodiscard]] MatrixX offset_covariance() const { return filter_.covariance(); }
   [[nodiscard]] const F& filter() const noexcept { return filter_; }
   [[nodiscard]] const ProposalReport& last_proposal() const noexcept { return report_; }
+
+  static constexpr std::string_view json_format = "twincal.default_controller";
+
+  /// The filter's state (its own save(): δû, P, sigma points, update count) and the last
+  /// proposal's report; nothing else carries over between assemblies (u0 is recomputed).
+  [[nodiscard]] nlohmann::json save() const requires SnapshotFilter<F> {
+    return {{"format", json_format},
+            {"dimension", filter_.dimension()},
+            {"filter", filter_.save()},
+            {"report", json_state::report_to_json(report_)}};
+  }
+
+  /// Restores a snapshot of save() into a controller built like the saved one.
+  /// @throws InvalidArgumentError, DimensionMismatchError, NonFiniteError,
+  ///         NotPositiveDefiniteError naming the field ("filter.covariance"); the controller
+  ///         unchanged.
+  void restore(const nlohmann::json& saved) requires SnapshotFilter<F> {
+    const Index d = filter_.dimension();
+    json_state::require_header(saved, json_format, d);
+    const nlohmann::json& saved_filter = json_state::field(saved, "filter");
+    const nlohmann::json& saved_report = json_state::field(saved, "report");
+    ProposalReport report =
+        json_state::within("report", [&] { return json_state::read_report(saved_report, d); });
+    // The filter last: its restore is all or nothing, and nothing throws after it.
+    json_state::within("filter", [&] { filter_.restore(saved_filter); });
+    report_ = std::move(report);
+  }
 
  private:
   F filter_;

@@ -27,9 +27,13 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string_view>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include "twincal/controllers/controller_state_json.hpp"
 
 #include "twincal/controllers/probe_design.hpp"
 #include "twincal/core/eigen.hpp"
@@ -120,6 +124,18 @@ class InformationProbe {
         }
       }
     }
+  }
+
+  static constexpr std::string_view json_format = "twincal.information_probe";
+
+  /// The sign the next tie takes: the design's only state (everything else is rewritten by every
+  /// design()).
+  [[nodiscard]] nlohmann::json save() const { return {{"format", json_format}, {"flip", flip_}}; }
+
+  /// @throws InvalidArgumentError naming the field; the probe unchanged.
+  void restore(const nlohmann::json& saved) {
+    json_state::require_format(saved, json_format);
+    flip_ = json_state::read_bool(saved, "flip");
   }
 
  private:

@@ -24,13 +24,16 @@
 #include <cstddef>
 #include <exception>
 #include <limits>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 
 #include <fmt/format.h>
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/exploitation_loss.hpp"
 #include "twincal/controllers/exploration_loss.hpp"
@@ -40,6 +43,7 @@
 #include "twincal/controllers/optimizer.hpp"
 #include "twincal/controllers/proposal_report.hpp"
 #include "twincal/controllers/quality_filter.hpp"
+#include "twincal/controllers/sampler_state.hpp"
 #include "twincal/controllers/trace_loss.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
@@ -125,6 +129,66 @@ class LookaheadController {
   [[nodiscard]] const S& sampler() const noexcept { return sampler_; }
   [[nodiscard]] const LookaheadOptions& options() const noexcept { return options_; }
   [[nodiscard]] const ProposalReport& last_proposal() const noexcept { return report_; }
+
+  static constexpr std::string_view json_format = "twincal.lookahead_controller";
+
+  /// The filter's state (its own save()), the sampler's position (sampler_state.hpp), the last
+  /// proposal's report and, between propose and observe, the pending proposal u_t with the
+  /// preview observe commits (eq. 12's P⁺(u_t)). The losses, options and u0 are settings.
+  [[nodiscard]] nlohmann::json save() const requires SnapshotFilter<F> && SnapshotSampler<S> {
+    nlohmann::json saved{{"format", json_format},
+                         {"dimension", filter_.dimension()},
+                         {"filter", filter_.save()},
+                         {"sampler", save_sampler(sampler_)},
+                         {"report", json_state::report_to_json(report_)},
+                         {"pending", has_pending_}};
+    if (has_pending_) {
+      saved["pending_slot"] = pending_slot_;
+      saved["chosen"] = json_state::doubles_to_json(chosen_);
+      saved["preview"] = json_state::preview_to_json(previews_[pending_slot_]);
+    }
+    return saved;
+  }
+
+  /// Restores a snapshot of save() into a controller built like the saved one (same filter
+  /// settings, sampler kind and options).
+  /// @throws InvalidArgumentError, DimensionMismatchError, NonFiniteError,
+  ///         NotPositiveDefiniteError naming the field ("filter.covariance", "sampler.seed");
+  ///         the controller unchanged.
+  void restore(const nlohmann::json& saved) requires SnapshotFilter<F> && SnapshotSampler<S> {
+    const Index d = filter_.dimension();
+    json_state::require_header(saved, json_format, d);
+    const nlohmann::json& saved_filter = json_state::field(saved, "filter");
+    const nlohmann::json& saved_sampler = json_state::field(saved, "sampler");
+    const nlohmann::json& saved_report = json_state::field(saved, "report");
+    ProposalReport report =
+        json_state::within("report", [&] { return json_state::read_report(saved_report, d); });
+    const bool pending = json_state::read_bool(saved, "pending");
+    std::size_t slot = pending_slot_;
+    ControlVector chosen = ControlVector::Zero(d);
+    Preview preview;
+    if (pending) {
+      slot = static_cast<std::size_t>(json_state::read_integer_field(saved, "pending_slot", 0, 1));
+      chosen = json_state::read_vector<ControlVector>(json_state::field(saved, "chosen"), "chosen",
+                                                      d);
+      const nlohmann::json& saved_preview = json_state::field(saved, "preview");
+      preview = json_state::within(
+          "preview", [&] { return json_state::read_preview<Preview>(saved_preview, d); });
+    }
+    S sampler = sampler_;
+    json_state::within("sampler", [&] { restore_sampler(sampler, saved_sampler); });
+    // The filter last: its restore is all or nothing, and nothing throws after it.
+    json_state::within("filter", [&] { filter_.restore(saved_filter); });
+    sampler_ = std::move(sampler);
+    report_ = std::move(report);
+    has_pending_ = pending;
+    if (pending) {
+      pending_slot_ = slot;
+      chosen_ = std::move(chosen);
+      preview.revision = filter_.revision();  // the preview of the restored state
+      previews_[slot] = std::move(preview);
+    }
+  }
 
  private:
   void choose(const Assembly& assembly, const ControlVector& center) {

@@ -3,8 +3,12 @@
 /// `NominalController`: Def. 1, eq. (2). One control u⁰ = argmin_u Q(x⁰, u; θ0), optimal for a
 /// reference assembly x⁰, applied to every assembly. It does not learn from measurements.
 
+#include <string_view>
 #include <utility>
 
+#include <nlohmann/json.hpp>
+
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
@@ -34,6 +38,19 @@ class NominalController {
 
   /// u⁰, Q(x⁰, u⁰) and the evaluations spent finding them.
   [[nodiscard]] const IndividualControl& nominal() const noexcept { return nominal_; }
+
+  static constexpr std::string_view json_format = "twincal.nominal_controller";
+
+  /// The snapshot of a controller that learns nothing: its format and dimension (u⁰ is the
+  /// constructor's, from the same twin and reference assembly).
+  [[nodiscard]] nlohmann::json save() const {
+    return {{"format", json_format}, {"dimension", nominal_.control.size()}};
+  }
+
+  /// Checks a snapshot of save(). @throws InvalidArgumentError, DimensionMismatchError.
+  void restore(const nlohmann::json& saved) const {
+    json_state::require_header(saved, json_format, nominal_.control.size());
+  }
 
  private:
   IndividualControl nominal_;

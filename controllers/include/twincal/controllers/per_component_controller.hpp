@@ -15,13 +15,17 @@
 
 #include <cstdint>
 #include <memory>
+#include <string_view>
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "twincal/controllers/component_twin.hpp"
 #include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
@@ -100,6 +104,31 @@ class PerComponentController {
 
   [[nodiscard]] const Component& component(Index i) const {
     return components_.at(static_cast<std::size_t>(i));
+  }
+
+  static constexpr std::string_view json_format = "twincal.per_component_controller";
+
+  /// Each component's snapshot, in locator order. The shared context (u0, the other locators'
+  /// controls) is rewritten by every propose and observe before it is read: not state.
+  [[nodiscard]] nlohmann::json save() const requires SnapshotController<Component> {
+    nlohmann::json components = nlohmann::json::array();
+    for (const Component& component : components_) components.push_back(component.save());
+    return {{"format", json_format}, {"dimension", dimension()}, {"components", components}};
+  }
+
+  /// Restores a snapshot of save() into a controller built like the saved one.
+  /// @throws as the components' restore, naming the field ("components[1].filter.state");
+  ///         the controller unchanged.
+  void restore(const nlohmann::json& saved) requires SnapshotController<Component> {
+    json_state::require_header(saved, json_format, dimension());
+    const nlohmann::json& saved_components =
+        json_state::require_array(json_state::field(saved, "components"), "components", dimension());
+    std::vector<Component> restored = components_;  // all or nothing
+    for (std::size_t i = 0; i < restored.size(); ++i) {
+      json_state::within(fmt::format("components[{}]", i),
+                         [&] { restored[i].restore(saved_components[i]); });
+    }
+    components_.swap(restored);
   }
 
  private:

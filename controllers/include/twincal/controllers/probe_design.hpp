@@ -16,9 +16,12 @@
 /// - max_probe: the largest |p_i| per locator.
 
 #include <concepts>
+#include <string_view>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/core/eigen.hpp"
 
 namespace twincal {
@@ -39,6 +42,14 @@ concept ProbeDesign = requires(D& design, const ProbeContext<N>& context, Vector
   design.design(context, probe);
 };
 
+/// A design whose state between probes (a random stream, an alternating sign) can be saved and
+/// restored, for the active controller's snapshot (SnapshotController, controller.hpp).
+template <typename D>
+concept SnapshotProbe = requires(const D& design, D& target, const nlohmann::json& saved) {
+  { design.save() } -> std::same_as<nlohmann::json>;
+  target.restore(saved);
+};
+
 /// p = 0: the default control u0 + δû (eq. 9) with the active controller's estimator — the
 /// ablation that shows what probing buys.
 template <int N = Dynamic>
@@ -46,6 +57,12 @@ struct NoProbe {
   void design(const ProbeContext<N>& context, Vector<N>& probe) const {
     probe.setZero(context.covariance.rows());
   }
+
+  static constexpr std::string_view json_format = "twincal.no_probe";
+  /// No state: the format alone.
+  [[nodiscard]] nlohmann::json save() const { return {{"format", json_format}}; }
+  /// @throws InvalidArgumentError for another format.
+  void restore(const nlohmann::json& saved) const { json_state::require_format(saved, json_format); }
 };
 
 }  // namespace twincal

@@ -19,10 +19,13 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/quadratic_model.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
@@ -190,6 +193,33 @@ class QuadraticSurrogate {
       error = std::max(error, std::abs(model(points.col(c)) - twin) / scale);
     }
     return static_cast<std::uint64_t>(count);
+  }
+
+  static constexpr std::string_view json_format = "twincal.quadratic_surrogate";
+
+  /// The kept H, whether there is one and its age (assemblies since the last full fit): what
+  /// decides the next fit's kind and its H. The steps are settings, the points workspaces.
+  [[nodiscard]] nlohmann::json save() const {
+    return {{"format", json_format},
+            {"dimension", dimension()},
+            {"hessian", json_state::matrix_to_json(hessian_)},
+            {"has_hessian", has_hessian_},
+            {"age", age_}};
+  }
+
+  /// Restores a snapshot of save() into a surrogate of the same twin and options.
+  /// @throws InvalidArgumentError, DimensionMismatchError, NonFiniteError naming the field; the
+  ///         surrogate unchanged.
+  void restore(const nlohmann::json& saved) {
+    const Index d = dimension();
+    json_state::require_header(saved, json_format, d);
+    SquareMatrix<N> hessian(d, d);
+    json_state::read_matrix(json_state::field(saved, "hessian"), "hessian", hessian);
+    const bool has_hessian = json_state::read_bool(saved, "has_hessian");
+    const Index age = json_state::read_integer_field(saved, "age", 0);
+    hessian_ = hessian;
+    has_hessian_ = has_hessian;
+    age_ = age;
   }
 
  private:

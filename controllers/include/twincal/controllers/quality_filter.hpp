@@ -14,9 +14,11 @@
 ///   and sigma point in one twin batch call.
 
 #include <concepts>
+#include <cstdint>
 #include <type_traits>
 
 #include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
 
 #include "twincal/core/eigen.hpp"
 
@@ -53,6 +55,18 @@ concept QualityFilter = requires(F& filter, const F& const_filter, double z,
            const Eigen::Ref<const MatrixX>& controls, const Eigen::Ref<const MatrixX>& states,
            Eigen::Ref<MatrixX> out) {
   model.measure_grid(assembly, controls, states, out);
+};
+
+/// A QualityFilter whose state can be saved and restored (SigmaPointFilter,
+/// SquareRootSigmaPointFilter: save() and restore(saved), bit-exact), as a controller's snapshot
+/// needs (SnapshotController, controller.hpp). restore() changes revision(), so a controller that
+/// restores a pending preview stamps it with the new one.
+template <typename F>
+concept SnapshotFilter = QualityFilter<F> && requires(const F& filter, F& target,
+                                                      const nlohmann::json& saved) {
+  { filter.save() } -> std::same_as<nlohmann::json>;
+  target.restore(saved);
+  { filter.revision() } -> std::convertible_to<std::uint64_t>;
 };
 
 }  // namespace twincal

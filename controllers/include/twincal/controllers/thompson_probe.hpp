@@ -12,11 +12,14 @@
 
 #include <cmath>
 #include <optional>
+#include <string_view>
 
 #include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/probe_design.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -63,6 +66,20 @@ class ThompsonProbe {
     probe.noalias() = factor_->matrixL() * draw_;
     probe *= scale_;
     probe = probe.cwiseMax(-context.max_probe).cwiseMin(context.max_probe);
+  }
+
+  static constexpr std::string_view json_format = "twincal.thompson_probe";
+
+  /// The stream of the draws ξ (seed and engine state): the probe's only state (the factor and
+  /// the draw are rewritten by every design()).
+  [[nodiscard]] nlohmann::json save() const {
+    return {{"format", json_format}, {"stream", json_state::random_stream_to_json(stream_)}};
+  }
+
+  /// @throws InvalidArgumentError naming the field; the probe unchanged.
+  void restore(const nlohmann::json& saved) {
+    json_state::require_format(saved, json_format);
+    stream_ = json_state::read_random_stream(json_state::field(saved, "stream"), "stream");
   }
 
  private:

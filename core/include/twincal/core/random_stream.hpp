@@ -99,6 +99,8 @@ class RandomStream {
 
   /// The underlying engine, for distributions that take one.
   [[nodiscard]] Engine& engine() noexcept { return engine_; }
+  /// The engine as it is, e.g. to save its state with `operator<<` (controller snapshots).
+  [[nodiscard]] const Engine& engine() const noexcept { return engine_; }
 
  private:
   [[nodiscard]] std::uint64_t derive(std::uint64_t key) const noexcept {

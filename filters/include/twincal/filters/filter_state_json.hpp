@@ -6,6 +6,7 @@
 /// the JSON field; malformed JSON (a missing field, a string for a number) becomes an
 /// InvalidArgumentError as well.
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -40,9 +41,10 @@ template <typename Derived>
                                                  std::string_view name) {
   if (!object.is_object() || !object.contains(name)) {
     throw InvalidArgumentError(std::string(name),
-                               fmt::format("{}: field is missing; rule: a saved filter state has "
-                                           "the fields format, dimension, updates, state, "
-                                           "covariance and sigma_points",
+                               fmt::format("{}: field is missing; rule: a saved state has every "
+                                           "field its save() writes (a filter's: format, "
+                                           "dimension, updates, state, covariance and "
+                                           "sigma_points)",
                                            name));
   }
   return object.at(std::string(name));
@@ -110,7 +112,8 @@ inline void require_header(const nlohmann::json& saved, std::string_view format,
 /// The non-negative integer field `name`.
 [[nodiscard]] inline std::uint64_t read_count(const nlohmann::json& saved, std::string_view name) {
   const nlohmann::json& value = field(saved, name);
-  if (!value.is_number_unsigned()) {
+  if (!value.is_number_integer() ||
+      (!value.is_number_unsigned() && value.get<std::int64_t>() < 0)) {
     throw InvalidArgumentError(
         std::string(name),
         fmt::format("{}: is {}; rule: must be a non-negative integer", name, value.dump()));

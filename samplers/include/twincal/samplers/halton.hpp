@@ -56,6 +56,8 @@ class Halton {
   void seed(std::uint64_t value);
   /// Skips `count` points (O(1)). Throws InvalidArgumentError if the index would overflow.
   void discard(std::uint64_t count);
+  /// Moves to point `position` (O(1)): restores a saved position() (controller snapshots).
+  void seek(std::uint64_t position) noexcept { position_ = position; }
   /// Fills the d × count matrix with the next count points. Throws DimensionMismatchError unless
   /// rows == dimension().
   void fill(Eigen::Ref<MatrixX> points);

@@ -46,6 +46,16 @@ class LatinHypercube {
   /// DimensionMismatchError unless rows == dimension().
   void fill(Eigen::Ref<MatrixX> points);
 
+  /// The stream the designs come from: the sampler's whole state (controller snapshots save
+  /// it; the permutation buffer is rebuilt by every fill).
+  [[nodiscard]] const RandomStream& stream() const noexcept { return stream_; }
+  /// Continues from `stream`, a stream() saved earlier: the next designs are the ones the saved
+  /// sampler would have drawn. options().seed becomes the stream's seed.
+  void set_stream(const RandomStream& stream) {
+    options_.seed = stream.seed();
+    stream_ = stream;
+  }
+
  private:
   Index dimension_;
   LatinHypercubeOptions options_;

@@ -43,6 +43,15 @@ class PseudoRandom {
   /// rows == dimension().
   void fill(Eigen::Ref<MatrixX> points);
 
+  /// The stream the points come from: the sampler's whole state (controller snapshots save it).
+  [[nodiscard]] const RandomStream& stream() const noexcept { return stream_; }
+  /// Continues from `stream`, a stream() saved earlier: the next points are the ones the saved
+  /// sampler would have drawn. options().seed becomes the stream's seed.
+  void set_stream(const RandomStream& stream) {
+    options_.seed = stream.seed();
+    stream_ = stream;
+  }
+
  private:
   Index dimension_;
   PseudoRandomOptions options_;

@@ -95,6 +95,11 @@ class Sobol {
   /// sequence would run past size() points.
   void discard(std::uint64_t count);
 
+  /// Moves to point `position` (at most size()) in O(bits · d), whatever the current position
+  /// and without the balance check: restoring a saved position() (controller snapshots) is not
+  /// a draw. Throws InvalidArgumentError past size(); nothing changes then.
+  void seek(std::uint64_t position);
+
   /// Fills the d × count matrix with the next count points (one per column). Throws
   /// DimensionMismatchError unless rows == dimension(), InvalidArgumentError if the sequence
   /// would run past size() points or (BalanceCheck::refuse) the batch is not an aligned

@@ -6,7 +6,8 @@
 /// and loss, per-component, active — through one type, compiled once. Controls and estimates go
 /// in and out through Eigen::Ref, so a fixed-size controller (d = 1, 3) keeps its fixed-size
 /// arithmetic and a step allocates nothing the wrapped controller does not. Move-only: a
-/// controller is state.
+/// controller is state. Every wrapped controller is a SnapshotController: save() and restore()
+/// let `twincal serve` resume a session from a snapshot instead of replaying its whole history.
 
 #include <concepts>
 #include <limits>
@@ -14,6 +15,7 @@
 #include <utility>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "twincal/controllers/controller.hpp"
 #include "twincal/core/eigen.hpp"
@@ -26,7 +28,7 @@ class AnyController {
   using Assembly = AssemblyId;
 
   /// Wraps `controller` (moved in), which controls `control_dimension` locators.
-  template <Controller C>
+  template <SnapshotController C>
   requires std::same_as<typename C::Assembly, AssemblyId> AnyController(C controller,
                                                                         Index control_dimension)
       : model_(std::make_unique<Model<C>>(std::move(controller), control_dimension)) {}
@@ -51,6 +53,16 @@ class AnyController {
   /// tr P_t; NaN for a controller that does not estimate.
   [[nodiscard]] double offset_covariance_trace() const { return model_->covariance_trace(); }
 
+  /// The wrapped controller's snapshot (SnapshotController, controllers' controller.hpp): what
+  /// it carries from one assembly to the next, as JSON that reads back bit for bit.
+  [[nodiscard]] nlohmann::json save() const { return model_->save(); }
+  /// Restores a save() of a controller built with the same arguments (make_episode_controller
+  /// with the same twin, config, spec and run): from then on it behaves bit for bit like the
+  /// saved one. @throws the controller's typed errors (InvalidArgumentError,
+  ///         DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError) naming the
+  ///         field; the controller unchanged.
+  void restore(const nlohmann::json& saved) { model_->restore(saved); }
+
  private:
   struct Concept {
     explicit Concept(Index d) : dimension(d) {}
@@ -61,6 +73,8 @@ class AnyController {
     virtual void offset_estimate(Eigen::Ref<VectorX>) const = 0;
     virtual void offset_covariance(Eigen::Ref<MatrixX>) const = 0;
     [[nodiscard]] virtual double covariance_trace() const = 0;
+    [[nodiscard]] virtual nlohmann::json save() const = 0;
+    virtual void restore(const nlohmann::json&) = 0;
     Index dimension;
   };
 
@@ -99,6 +113,8 @@ class AnyController {
         return std::numeric_limits<double>::quiet_NaN();
       }
     }
+    [[nodiscard]] nlohmann::json save() const override { return controller.save(); }
+    void restore(const nlohmann::json& saved) override { controller.restore(saved); }
     C controller;
     typename C::ControlVector control;
   };

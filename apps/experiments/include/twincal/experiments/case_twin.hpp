@@ -56,6 +56,9 @@ class CaseTwin {
   AssemblyId add_scanned(const nlohmann::json& parts,
                          const std::optional<ScannedOptimum>& known = std::nullopt);
 
+  /// How many scanned assemblies are registered; the next one gets scanned_assembly(count).
+  [[nodiscard]] Index scanned_count() const noexcept { return std::ssize(scanned_positions_); }
+
   /// The full twin's assemblies, in its order (not the scanned ones).
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept {
     return twin_.assemblies();

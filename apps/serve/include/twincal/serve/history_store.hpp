@@ -117,6 +117,11 @@ class HistoryStore {
   /// records before it have been visited); what `visit` throws.
   void for_each_record(std::int64_t first,
                        const std::function<void(const HistoryRecord&)>& visit) const;
+  /// Calls `visit` with every record up to request `last` whose assembly is scanned parts (a
+  /// JSON object), in request order: what a resume from a snapshot registers with the twin
+  /// without replaying the requests between. @throws HistoryDamageError.
+  void for_each_scanned_record(std::int64_t last,
+                               const std::function<void(const HistoryRecord&)>& visit) const;
   /// Every record, in request order (for_each_record into a vector).
   [[nodiscard]] std::vector<HistoryRecord> records() const;
   /// The number of proposals.
@@ -140,7 +145,7 @@ class HistoryStore {
   /// HistoryDamageError.
   [[nodiscard]] HistorySnapshot snapshot(std::int64_t request_id) const;
 
-  /// The checksum column of a proposals row and of an observations row: the CRC-32 of the
+  /// The checksum column of a proposals, observations and snapshots row: the CRC-32 of the
   /// request id and the columns' stored text (the quality in its shortest round-trip form), each
   /// followed by 0x1f. What a tool that edits a history on purpose must write.
   [[nodiscard]] static std::int64_t proposal_checksum(std::int64_t request_id,
@@ -152,6 +157,8 @@ class HistoryStore {
                                                          std::string_view estimate,
                                                          std::string_view covariance,
                                                          std::string_view observed_at);
+  [[nodiscard]] static std::int64_t snapshot_checksum(std::int64_t request_id,
+                                                      std::string_view state);
 
   /// Moves the write-ahead log into the database file (PRAGMA wal_checkpoint(TRUNCATE)), e.g.
   /// before copying the file; returns the database's size in bytes.
@@ -173,6 +180,10 @@ class HistoryStore {
   void execute(const char* sql) const;
   [[nodiscard]] int stored_format() const;
   void upgrade_from_format_1();
+  // The records with request_id in [first, last], of scanned assemblies only if
+  // `scanned_only` (then not necessarily contiguous), checked and parsed.
+  void visit_records(std::int64_t first, std::int64_t last, bool scanned_only,
+                     const std::function<void(const HistoryRecord&)>& visit) const;
   // Records the identities of the database and its log (after the log exists).
   void watch_files();
   // After a commit: the database and its log are still the files watch_files() saw.

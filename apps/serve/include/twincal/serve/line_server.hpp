@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -31,6 +32,13 @@ struct ListenOptions {
   /// Replies waiting for a client that does not read them, in bytes, before its connection is
   /// closed (at least ServeSession::max_line_bytes).
   std::size_t max_reply_backlog = std::size_t{8} << 20;
+  /// Listen on this Unix-domain socket instead of TCP (host and port unused): for a cell PC
+  /// whose client runs on the same machine. Access is the socket file's permissions
+  /// (`unix_socket_mode`, the owner only by default), so no token is needed (one given is still
+  /// required first). A stale socket file of a killed server is replaced; a live one or any
+  /// other file is refused; the file is removed when the server ends.
+  std::optional<std::filesystem::path> unix_socket;
+  unsigned unix_socket_mode = 0600;
   /// The shared secret a connection must send first, as {"op": "authenticate", "token": …}
   /// (compared in constant time; a wrong or missing one gets one error reply, the connection is
   /// closed and the attempt logged on stderr). Required unless `host` is a loopback address: a
@@ -40,19 +48,22 @@ struct ListenOptions {
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 
-/// Listens on `options` and serves every connection from one event loop (Boost.Asio), applying
+/// Listens on `options` (TCP, or `unix_socket`) and serves every connection from one event loop
+/// (Boost.Asio), applying
 /// requests to the session in the order their lines arrive, until a `shutdown` request's reply
 /// is written; `on_listening(port)` is called once the socket accepts connections. A client that
 /// is silent, slow, half-closed or never reads its replies costs only its own connection. With a
 /// token, a connection's first request must authenticate it (ListenOptions::token).
 /// @throws InvalidArgumentError for invalid options; Error when the socket cannot be bound;
 ///         HistoryStoreError.
-void serve_tcp(ServeSession& session, const ListenOptions& options,
-               const std::function<void(int port)>& on_listening);
+void serve_connections(ServeSession& session, const ListenOptions& options,
+                       const std::function<void(int port)>& on_listening);
 
-/// serve_tcp with the session opened by `open_session` once the socket is bound, so that a port
-/// in use leaves no new database behind (`twincal serve --listen`).
-void serve_tcp(const ListenOptions& options, const std::function<ServeSession&()>& open_session,
-               const std::function<void(int port)>& on_listening);
+/// serve_connections with the session opened by `open_session` once the socket is bound, so
+/// that a port in use leaves no new database behind (`twincal serve --listen`). `on_listening`
+/// gets the TCP port (0 for a Unix-domain socket).
+void serve_connections(const ListenOptions& options,
+                       const std::function<ServeSession&()>& open_session,
+                       const std::function<void(int port)>& on_listening);
 
 }  // namespace twincal

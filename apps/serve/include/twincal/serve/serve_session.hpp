@@ -48,6 +48,22 @@ struct ServeOptions {
   ControllerSpec controller = ControllerSpec::active();
   Index run = 0;
   Durability durability = Durability::full;
+  /// Observations between snapshots of the controller's state in the history (and one at each
+  /// `checkpoint` and `shutdown`): a resume restores the last snapshot and replays only what
+  /// follows. 0: no snapshots (a resume replays the whole history).
+  std::int64_t snapshot_interval = 1000;
+
+  [[nodiscard]] std::optional<std::string> validate() const;
+};
+
+/// How ServeSession::resume() rebuilds the controller.
+struct ResumeOptions {
+  Durability durability = Durability::full;
+  /// For the records the resumed session writes (ServeOptions::snapshot_interval).
+  std::int64_t snapshot_interval = 1000;
+  /// Replay the whole history from the settings, comparing every snapshot on the way, instead
+  /// of starting from the last snapshot (`twincal serve --resume --verify-all`).
+  bool verify_all = false;
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };
@@ -63,6 +79,7 @@ class HistoryMismatchError : public Error {
 struct HistoryCheck {
   std::int64_t requests = 0;      ///< proposals replayed
   std::int64_t observations = 0;  ///< observations replayed
+  std::int64_t snapshots = 0;     ///< snapshots compared with the replayed controller
   bool pending = false;           ///< the last request awaits its observation
 };
 
@@ -80,14 +97,20 @@ class ServeSession {
   /// @throws InvalidArgumentError for invalid options; HistoryStoreError.
   [[nodiscard]] static ServeSession start(const ServeOptions& options,
                                           const std::filesystem::path& database);
-  /// The session of `database`, its history replayed.
-  /// @throws HistoryStoreError; HistoryMismatchError.
+  /// The session of `database`: the controller restored from the last snapshot (if any) and
+  /// the requests after it replayed, each checked bit for bit; with `verify_all`, the whole
+  /// history replayed and every snapshot compared.
+  /// @throws InvalidArgumentError for invalid options; HistoryStoreError (HistoryDamageError);
+  ///         HistoryMismatchError.
+  [[nodiscard]] static ServeSession resume(const std::filesystem::path& database,
+                                           const ResumeOptions& options);
+  /// resume() with `durability` and the other options' defaults.
   [[nodiscard]] static ServeSession resume(const std::filesystem::path& database,
                                            Durability durability = Durability::full);
 
   /// Replays the whole history of `database` without writing to it (a running server's too),
-  /// checking every row's checksum and every recomputed control, report, estimate and
-  /// covariance bit for bit: what `twincal history --check` runs.
+  /// checking every row's checksum and every recomputed control, report, estimate, covariance
+  /// and snapshot bit for bit: what `twincal history --check` runs.
   /// @throws HistoryStoreError (HistoryDamageError for a damaged row); HistoryMismatchError.
   [[nodiscard]] static HistoryCheck check(const std::filesystem::path& database);
 
@@ -125,7 +148,7 @@ class ServeSession {
   // Builds the controller over `twin`, which stays where it is: the controller refers to it.
   ServeSession(ServeOptions options, std::unique_ptr<CaseTwin> twin, HistoryStore store);
   // The session of `store`, built from its settings, nothing replayed yet.
-  [[nodiscard]] static ServeSession from_settings(HistoryStore store, Durability durability);
+  [[nodiscard]] static ServeSession from_settings(HistoryStore store, const ResumeOptions& options);
 
   // The reply to a request of `op` (a known or unknown operation). @throws Error.
   [[nodiscard]] nlohmann::json dispatch(const std::string& op, const nlohmann::json& request);
@@ -145,8 +168,19 @@ class ServeSession {
   // δû_t and P_t as JSON.
   [[nodiscard]] nlohmann::json estimate_json() const;
   [[nodiscard]] nlohmann::json covariance_json() const;
-  void replay();
-  // Rebuilds the controller from the settings and the store (after a failed step).
+  // Replays the records from next_request_ on; with `verify_snapshots`, compares the
+  // controller with each stored snapshot it passes (returns how many).
+  std::int64_t replay(bool verify_snapshots = false);
+  // Restores the controller from the last snapshot, if any (registering the scanned assemblies
+  // up to it with the twin first when `register_scanned`).
+  void restore_last_snapshot(bool register_scanned);
+  // The controller's state as a snapshot stores it.
+  [[nodiscard]] nlohmann::json snapshot_json() const;
+  // Stores a snapshot after the last observation when one is due (every snapshot_interval
+  // observations) or `now` (checkpoint, shutdown), unless there is one already.
+  void snapshot_if_due(bool now);
+  // Rebuilds the controller from the settings, the last snapshot and the records after it
+  // (after a failed step).
   void rebuild();
   // After an observe, for a controller that estimates: the state is one it can go on from
   // (max_estimate_widths); otherwise NonFiniteError naming the quality (the caller rebuilds).
@@ -159,6 +193,9 @@ class ServeSession {
   std::optional<Pending> pending_;
   std::int64_t next_request_ = 1;
   std::int64_t observed_ = 0;
+  std::int64_t last_snapshot_ = 0;  // the request of the last stored snapshot (0: none)
+  // The first snapshot rebuild() may restore: one this process restored or took (0: none yet).
+  std::int64_t trusted_snapshot_ = 0;
   bool finished_ = false;
   VectorX control_;             // workspaces: d
   mutable VectorX estimate_;    // d
