@@ -528,9 +528,18 @@ void ServeSession::restore_last_snapshot(bool register_scanned) {
                     "whole instead)",
                     database, snapshot->request_id, why));
   };
-  // Scanned assemblies take their ids in the order they first arrived: registered again in
-  // that order, they get the ids the snapshot's controller refers to.
-  if (register_scanned) {
+  const json& state = snapshot->state;
+  if (!state.is_object() || state.value("format", "") != snapshot_format ||
+      state.value("request_id", std::int64_t{-1}) != snapshot->request_id ||
+      !state.contains("controller") || !state.contains("scanned")) {
+    throw mismatch("not a twincal serve snapshot of this request");
+  }
+  // The controller refers to scanned assemblies by id, given in the order they first arrived:
+  // the proposals up to the snapshot, registered again in that order (a scan of the table,
+  // skipped when there are none), give the snapshot's ids unless its process also registered
+  // parts it was only asked to `predict`. Then the ids differ, and the whole history is
+  // replayed instead (its ids are the proposals' own).
+  if (register_scanned && state.at("scanned") != 0) {
     try {
       store_.for_each_scanned_record(snapshot->request_id, [&](const HistoryRecord& record) {
         (void)recorded_assembly(record.assembly);
@@ -541,16 +550,6 @@ void ServeSession::restore_last_snapshot(bool register_scanned) {
       throw mismatch(error.what());
     }
   }
-  const json& state = snapshot->state;
-  if (!state.is_object() || state.value("format", "") != snapshot_format ||
-      state.value("request_id", std::int64_t{-1}) != snapshot->request_id ||
-      !state.contains("controller") || !state.contains("scanned")) {
-    throw mismatch("not a twincal serve snapshot of this request");
-  }
-  // The controller refers to scanned assemblies by id. The proposals registered here give the
-  // ids the snapshot's process gave unless that process also registered parts it was only asked
-  // to `predict`: then its ids differ, and the whole history is replayed instead (its ids are
-  // the proposals' own).
   if (state.at("scanned") != twin_->scanned_count()) return;
   try {
     controller_.restore(state.at("controller"));

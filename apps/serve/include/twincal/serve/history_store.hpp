@@ -27,7 +27,7 @@
 ///                estimate TEXT, covariance TEXT, observed_at TEXT, checksum INTEGER)
 ///   snapshots(request_id INTEGER PRIMARY KEY REFERENCES observations, state TEXT,
 ///             checksum INTEGER)
-/// A format-1 history (no checksums, no snapshots; written before 2026-11-26) is read as it is
+/// A format-1 history (no checksums, no snapshots; written before commit 3d8ae74) is read as it is
 /// and upgraded in place, in one transaction, when it is opened to be written.
 
 #include <cstdint>
