@@ -267,8 +267,7 @@ std::string lookahead_snapshot_step(C& controller, const AnalyticTwin& twin, int
   const AssemblyId x = twin.assemblies()[static_cast<std::size_t>(t)];
   if (propose) u = controller.propose(x);
   const double offset = 0.1 * std::sin(0.1 * static_cast<double>(t));
-  controller.observe(x, typename C::ControlVector(u),
-                     twin.quality(x, VectorX(u.array() - offset)));
+  controller.observe(x, typename C::ControlVector(u), twin.quality(x, VectorX(u.array() - offset)));
   return controller.save().dump();
 }
 

@@ -101,8 +101,8 @@ std::vector<SnapshotCase> snapshot_cases() {
         cases[cases.size() - 2].after = 60;
       }
     }
-    for (const CandidateSampler sampler : {CandidateSampler::halton, CandidateSampler::random,
-                                           CandidateSampler::latin_hypercube}) {
+    for (const CandidateSampler sampler :
+         {CandidateSampler::halton, CandidateSampler::random, CandidateSampler::latin_hypercube}) {
       ExperimentConfig config = base;
       config.sampler = sampler;
       add_case(cases, at + "_" + std::string(to_string(sampler)), config, w);
@@ -119,11 +119,14 @@ std::vector<SnapshotCase> snapshot_cases() {
   narrow.keep_drawing = true;
   narrow.box_half_width = 0.01;
   add_case(cases, "d3_keep_drawing", narrow, w);
-  add_case(cases, "d3_keep_drawing_halton", [&] {
-    ExperimentConfig config = narrow;
-    config.sampler = CandidateSampler::halton;
-    return config;
-  }(), w);
+  add_case(
+      cases, "d3_keep_drawing_halton",
+      [&] {
+        ExperimentConfig config = narrow;
+        config.sampler = CandidateSampler::halton;
+        return config;
+      }(),
+      w);
   for (const ControllerSpec& spec : {ControllerSpec::default_controller(), w}) {
     add_case(cases, "d1", analytic_config(1), spec);
     ExperimentConfig cubature = analytic_config(1);
@@ -159,9 +162,8 @@ std::vector<SnapshotCase> snapshot_cases() {
   body.twin_case = TwinCase::body;
   body.locators = "ABC";
   for (const ControllerSpec& spec :
-       {ControllerSpec::baseline(), ControllerSpec::nominal(),
-        ControllerSpec::default_controller(), w, ControllerSpec::per_component(0.5),
-        ControllerSpec::active()}) {
+       {ControllerSpec::baseline(), ControllerSpec::nominal(), ControllerSpec::default_controller(),
+        w, ControllerSpec::per_component(0.5), ControllerSpec::active()}) {
     add_case(cases, "body_ABC", body, spec);
   }
   return cases;
@@ -211,8 +213,7 @@ bool same_bits(const Eigen::Ref<const MatrixX>& a, const Eigen::Ref<const Matrix
   if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
   const MatrixX x = a;
   const MatrixX y = b;
-  return std::memcmp(x.data(), y.data(), sizeof(double) * static_cast<std::size_t>(x.size())) ==
-         0;
+  return std::memcmp(x.data(), y.data(), sizeof(double) * static_cast<std::size_t>(x.size())) == 0;
 }
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
 
@@ -469,8 +470,8 @@ TEST(AnyControllerSnapshotCases, CoverEveryControllerSchemeSamplerAndLoss) {
       losses[static_cast<int>(c.config.exploration)] = true;
     }
   }
-  for (const std::string label : {"baseline", "nominal", "default", "w=0", "w=0.5", "w=1",
-                                  "per-component:w=0.5", "active"}) {
+  for (const std::string label :
+       {"baseline", "nominal", "default", "w=0", "w=0.5", "w=1", "per-component:w=0.5", "active"}) {
     EXPECT_NE(std::find(labels.begin(), labels.end(), label), labels.end()) << label;
   }
   for (const bool covered : filters) EXPECT_TRUE(covered);

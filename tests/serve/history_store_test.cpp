@@ -171,7 +171,8 @@ TEST(HistoryStore, RefusesADamagedRowNamingTheDatabaseTheRequestAndTheColumn) {
     return std::pair{std::string(), std::string()};
   };
   // One character of a report, of an estimate, of a timestamp.
-  auto [column, message] = damaged("UPDATE proposals SET report = '{\"z\":7}' WHERE request_id = 2");
+  auto [column, message] =
+      damaged("UPDATE proposals SET report = '{\"z\":7}' WHERE request_id = 2");
   EXPECT_EQ(column, "checksum");
   EXPECT_THAT(message, HasSubstr("request 2: proposals.checksum is"));
   std::tie(column, message) =
@@ -236,8 +237,8 @@ TEST(HistoryStore, RefusesAReadOnlyDatabaseOrDirectoryBeforeWritingAnything) {
   EXPECT_EQ(HistoryStore::open_read_only(path.get()).records().size(), 3U);
 
   // A writable file in a directory that is not: SQLite could not create its -wal file.
-  const fs::path directory = fs::temp_directory_path() /
-                             fmt::format("twincal-serve-test-{}-ro", ::getpid());
+  const fs::path directory =
+      fs::temp_directory_path() / fmt::format("twincal-serve-test-{}-ro", ::getpid());
   fs::create_directories(directory);
   const fs::path inside = directory / "cell.db";
   write_three_requests(inside);
@@ -245,8 +246,8 @@ TEST(HistoryStore, RefusesAReadOnlyDatabaseOrDirectoryBeforeWritingAnything) {
   if (::geteuid() == 0) ASSERT_EQ(::chown(inside.c_str(), 65534, 65534), 0);
   EXPECT_EQ(exit_status_as_unprivileged_user([&] {
               return refusal([&] { (void)HistoryStore::open(inside); })
-                         .find("its directory (for the -wal and -shm files) " +
-                               directory.string() + " is not writable") != std::string::npos;
+                         .find("its directory (for the -wal and -shm files) " + directory.string() +
+                               " is not writable") != std::string::npos;
             }),
             0);
   ::chmod(directory.c_str(), 0755);
@@ -313,7 +314,8 @@ TEST(HistoryStore, KeepsSnapshotsWithTheirChecksums) {
   EXPECT_EQ(last->request_id, 2);
   EXPECT_EQ(last->state["mean"][0].get<double>(), 0.1 + 0.2);
   EXPECT_EQ(store.snapshot(1).state["mean"][1].get<double>(), 1e-300);
-  EXPECT_THAT(refusal([&] { (void)store.snapshot(3); }), HasSubstr("has no snapshot after request 3"));
+  EXPECT_THAT(refusal([&] { (void)store.snapshot(3); }),
+              HasSubstr("has no snapshot after request 3"));
   edit_database(path.get(), "UPDATE snapshots SET state = '{\"mean\":[0.3]}' WHERE request_id = 2");
   EXPECT_THAT(refusal([&] { (void)store.last_snapshot(); }),
               HasSubstr("request 2: snapshots.checksum is"));

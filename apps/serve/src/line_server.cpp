@@ -147,10 +147,10 @@ class LineServer<Protocol>::Connection : public std::enable_shared_from_this<Con
 
  private:
   void read() {
-    socket_.async_read_some(asio::buffer(chunk_),
-                            [self = this->shared_from_this()](const error_code& error, std::size_t n) {
-                              self->on_read(error, n);
-                            });
+    socket_.async_read_some(asio::buffer(chunk_), [self = this->shared_from_this()](
+                                                      const error_code& error, std::size_t n) {
+      self->on_read(error, n);
+    });
   }
 
   void on_read(const error_code& error, std::size_t bytes) {

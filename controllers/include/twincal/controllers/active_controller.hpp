@@ -324,30 +324,29 @@ class ActiveCalibrationController {
   [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
     using json_state::doubles_to_json;
     using json_state::number_to_json;
-    nlohmann::json saved{
-        {"format", json_format},
-        {"dimension", dimension()},
-        {"mean", doubles_to_json(mean_)},
-        {"covariance", json_state::matrix_to_json(covariance_)},
-        {"process_variance", number_to_json(process_variance_)},
-        {"assemblies", assemblies_},
-        {"time", time_},
-        {"retry_at", retry_at_},
-        {"restarted", restarted_},
-        {"quadratic", quadratic_},
-        {"pending", pending_},
-        {"control", doubles_to_json(control_)},
-        {"model", json_state::model_to_json(model_)},
-        {"recent_innovations", doubles_to_json(recent_innovations_)},
-        {"innovation_count", innovation_count_},
-        {"regrets", {doubles_to_json(regrets_[0]), doubles_to_json(regrets_[1])}},
-        {"audit_counts", {audit_counts_[0], audit_counts_[1]}},
-        {"audits", audits_},
-        {"report", json_state::report_to_json(report_)},
-        {"step", step_to_json(step_)},
-        {"surrogate", surrogate_.save()},
-        {"probe", probe_.save()},
-        {"estimator", estimator_.save()}};
+    nlohmann::json saved{{"format", json_format},
+                         {"dimension", dimension()},
+                         {"mean", doubles_to_json(mean_)},
+                         {"covariance", json_state::matrix_to_json(covariance_)},
+                         {"process_variance", number_to_json(process_variance_)},
+                         {"assemblies", assemblies_},
+                         {"time", time_},
+                         {"retry_at", retry_at_},
+                         {"restarted", restarted_},
+                         {"quadratic", quadratic_},
+                         {"pending", pending_},
+                         {"control", doubles_to_json(control_)},
+                         {"model", json_state::model_to_json(model_)},
+                         {"recent_innovations", doubles_to_json(recent_innovations_)},
+                         {"innovation_count", innovation_count_},
+                         {"regrets", {doubles_to_json(regrets_[0]), doubles_to_json(regrets_[1])}},
+                         {"audit_counts", {audit_counts_[0], audit_counts_[1]}},
+                         {"audits", audits_},
+                         {"report", json_state::report_to_json(report_)},
+                         {"step", step_to_json(step_)},
+                         {"surrogate", surrogate_.save()},
+                         {"probe", probe_.save()},
+                         {"estimator", estimator_.save()}};
     nlohmann::json kept = nlohmann::json::array();
     if constexpr (TwinWithKeptAssemblies<T>) {
       for (std::size_t slot = 0; slot < kept_times_.size(); ++slot) {
@@ -385,8 +384,8 @@ class ActiveCalibrationController {
     ControlVector control(d);
     json_state::read_doubles(field(saved, "control"), "control", control);
     const nlohmann::json& saved_model = field(saved, "model");
-    QuadraticModel<N> model = json_state::within(
-        "model", [&] { return json_state::read_model<N>(saved_model, d); });
+    QuadraticModel<N> model =
+        json_state::within("model", [&] { return json_state::read_model<N>(saved_model, d); });
     std::vector<double> recent_innovations = recent_innovations_;
     json_state::read_doubles(field(saved, "recent_innovations"), "recent_innovations",
                              recent_innovations);

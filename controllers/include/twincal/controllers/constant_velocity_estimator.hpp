@@ -391,9 +391,10 @@ class ConstantVelocityEstimator {
     nlohmann::json snapshots = nlohmann::json::array();
     const Index kept_snapshots = std::min<Index>(snapshots_, options_.change_lag + 1);
     for (Index i = 0; i < kept_snapshots; ++i) {
-      snapshots.push_back({{"time", snapshot_times_[static_cast<std::size_t>(i)]},
-                           {"state", doubles_to_json(snapshot_states_.col(i))},
-                           {"covariance", matrix_to_json(snapshot_covariances_.middleCols(i * d, d))}});
+      snapshots.push_back(
+          {{"time", snapshot_times_[static_cast<std::size_t>(i)]},
+           {"state", doubles_to_json(snapshot_states_.col(i))},
+           {"covariance", matrix_to_json(snapshot_covariances_.middleCols(i * d, d))}});
     }
     return {{"format", json_format},
             {"dimension", d},
@@ -441,8 +442,8 @@ class ConstantVelocityEstimator {
     const auto size = static_cast<Index>(history.size());
     if (size > capacity) {
       throw InvalidArgumentError(
-          "history", fmt::format("history: has {} entries; rule: at most max_history, {}", size,
-                                 capacity));
+          "history",
+          fmt::format("history: has {} entries; rule: at most max_history, {}", size, capacity));
     }
     std::vector<Index> times = times_;
     Matrix<N, Dynamic> controls = controls_;
@@ -472,8 +473,8 @@ class ConstantVelocityEstimator {
         values(at) = read_double_field(entry, "value");
         json_state::read_doubles(field(entry, "half_gradient"), "half_gradient", column);
         half_gradients.col(at) = column;
-        const Index which = read_integer_field(entry, "hessian", 0,
-                                               static_cast<Index>(hessians.size()) - 1);
+        const Index which =
+            read_integer_field(entry, "hessian", 0, static_cast<Index>(hessians.size()) - 1);
         json_state::read_matrix(hessians[static_cast<std::size_t>(which)],
                                 fmt::format("hessians[{}]", which), hessian);
         ring_hessians.middleCols(at * d, d) = hessian;
@@ -485,7 +486,8 @@ class ConstantVelocityEstimator {
       });
     }
     OffsetMatrix last_hessian = last_hessian_;
-    if (size > 0) json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
+    if (size > 0)
+      json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
 
     // The snapshots of the last change_lag + 1 fits, at their slots.
     const Index snapshot_count = read_integer_field(saved, "snapshot_count", 0);

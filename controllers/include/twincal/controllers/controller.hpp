@@ -44,8 +44,8 @@ concept EstimatingController = Controller<C> && requires(const C& controller) {
 };
 
 template <typename C>
-concept SnapshotController = Controller<C> && requires(const C& controller, C& target,
-                                                       const nlohmann::json& saved) {
+concept SnapshotController = Controller<C> &&
+    requires(const C& controller, C& target, const nlohmann::json& saved) {
   { controller.save() } -> std::same_as<nlohmann::json>;
   target.restore(saved);
 };

@@ -82,7 +82,8 @@ enum class Values { finite, any };
   const nlohmann::json& value = field(saved, name);
   if (!value.is_boolean()) {
     throw InvalidArgumentError(
-        std::string(name), fmt::format("{}: is {}; rule: must be true or false", name, value.dump()));
+        std::string(name),
+        fmt::format("{}: is {}; rule: must be true or false", name, value.dump()));
   }
   return value.get<bool>();
 }
@@ -93,14 +94,16 @@ enum class Values { finite, any };
                                         Index high = std::numeric_limits<Index>::max()) {
   if (!value.is_number_integer() ||
       (value.is_number_unsigned() &&
-       value.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<Index>::max()))) {
-    throw InvalidArgumentError(std::string(name),
-                               fmt::format("{}: is {}; rule: must be an integer", name, value.dump()));
+       value.get<std::uint64_t>() >
+           static_cast<std::uint64_t>(std::numeric_limits<Index>::max()))) {
+    throw InvalidArgumentError(
+        std::string(name), fmt::format("{}: is {}; rule: must be an integer", name, value.dump()));
   }
   const auto x = value.get<Index>();
   if (x < low || x > high) {
     throw InvalidArgumentError(
-        std::string(name), fmt::format("{}: is {}; rule: must lie in [{}, {}]", name, x, low, high));
+        std::string(name),
+        fmt::format("{}: is {}; rule: must lie in [{}, {}]", name, x, low, high));
   }
   return x;
 }
@@ -116,8 +119,8 @@ enum class Values { finite, any };
 [[nodiscard]] inline std::string read_string(const nlohmann::json& saved, std::string_view name) {
   const nlohmann::json& value = field(saved, name);
   if (!value.is_string()) {
-    throw InvalidArgumentError(std::string(name),
-                               fmt::format("{}: is {}; rule: must be a string", name, value.dump()));
+    throw InvalidArgumentError(
+        std::string(name), fmt::format("{}: is {}; rule: must be a string", name, value.dump()));
   }
   return value.get<std::string>();
 }
@@ -126,8 +129,8 @@ enum class Values { finite, any };
 inline const nlohmann::json& require_array(const nlohmann::json& value, std::string_view name,
                                            Index size = -1) {
   if (!value.is_array()) {
-    throw InvalidArgumentError(
-        std::string(name), fmt::format("{}: is a {}; rule: must be an array", name, value.type_name()));
+    throw InvalidArgumentError(std::string(name), fmt::format("{}: is a {}; rule: must be an array",
+                                                              name, value.type_name()));
   }
   if (size >= 0) require_dimension(name, static_cast<Index>(value.size()), size);
   return value;
@@ -162,7 +165,8 @@ void read_doubles(const nlohmann::json& value, std::string_view name,
                   Eigen::DenseBase<Derived>& out, Values values = Values::finite) {
   require_array(value, name, out.size());
   for (Index i = 0; i < out.size(); ++i) {
-    out(i) = read_double(value[static_cast<std::size_t>(i)], fmt::format("{}[{}]", name, i), values);
+    out(i) =
+        read_double(value[static_cast<std::size_t>(i)], fmt::format("{}[{}]", name, i), values);
   }
 }
 inline void read_doubles(const nlohmann::json& value, std::string_view name,
@@ -175,8 +179,8 @@ inline void read_doubles(const nlohmann::json& value, std::string_view name,
 
 /// An array of out.cols() columns of out.rows() doubles into `out` (already sized).
 template <typename Derived>
-void read_matrix(const nlohmann::json& value, std::string_view name,
-                 Eigen::DenseBase<Derived>& out, Values values = Values::finite) {
+void read_matrix(const nlohmann::json& value, std::string_view name, Eigen::DenseBase<Derived>& out,
+                 Values values = Values::finite) {
   require_array(value, name, out.cols());
   for (Index c = 0; c < out.cols(); ++c) {
     auto column = out.col(c);
@@ -220,7 +224,9 @@ template <typename M>
 /// named by any of twincal's argument errors with "part.", keeping the error's type.
 template <typename Read>
 decltype(auto) within(std::string_view part, Read&& read) {
-  const auto prefixed = [part](std::string_view inner) { return fmt::format("{}.{}", part, inner); };
+  const auto prefixed = [part](std::string_view inner) {
+    return fmt::format("{}.{}", part, inner);
+  };
   try {
     return std::forward<Read>(read)();
   } catch (const DimensionMismatchError& e) {
@@ -382,8 +388,8 @@ template <typename Preview>
               preview.posterior_covariance);
   preview.posterior_factor.resize(d, d);
   read_matrix(field(saved, "posterior_factor"), "posterior_factor", preview.posterior_factor);
-  preview.factorization.applied = static_cast<CovarianceRepair>(read_integer_field(
-      saved, "repair", 0, static_cast<Index>(CovarianceRepair::nearest_pd)));
+  preview.factorization.applied = static_cast<CovarianceRepair>(
+      read_integer_field(saved, "repair", 0, static_cast<Index>(CovarianceRepair::nearest_pd)));
   preview.factorization.jitter = read_double_field(saved, "jitter");
   preview.factorization.clipped_eigenvalues = read_integer_field(saved, "clipped_eigenvalues", 0);
   preview.factorization.smallest_eigenvalue =
@@ -408,7 +414,9 @@ inline void read_assembly(const nlohmann::json& value, std::string_view name, As
 /// Any other assembly type that nlohmann-json converts (e.g. an external twin's JSON assembly).
 template <typename A>
 requires std::constructible_from<nlohmann::json, const A&>
-[[nodiscard]] nlohmann::json assembly_to_json(const A& assembly) { return nlohmann::json(assembly); }
+[[nodiscard]] nlohmann::json assembly_to_json(const A& assembly) {
+  return nlohmann::json(assembly);
+}
 
 template <typename A>
 requires std::constructible_from<nlohmann::json, const A&>
@@ -416,9 +424,9 @@ void read_assembly(const nlohmann::json& value, std::string_view name, A& out) {
   try {
     out = value.get<A>();
   } catch (const nlohmann::json::exception& error) {
-    throw InvalidArgumentError(std::string(name),
-                               fmt::format("{}: is {}; rule: must be an assembly ({})", name,
-                                           value.dump(), error.what()));
+    throw InvalidArgumentError(
+        std::string(name),
+        fmt::format("{}: is {}; rule: must be an assembly ({})", name, value.dump(), error.what()));
   }
 }
 

@@ -169,8 +169,8 @@ class LookaheadController {
     Preview preview;
     if (pending) {
       slot = static_cast<std::size_t>(json_state::read_integer_field(saved, "pending_slot", 0, 1));
-      chosen = json_state::read_vector<ControlVector>(json_state::field(saved, "chosen"), "chosen",
-                                                      d);
+      chosen =
+          json_state::read_vector<ControlVector>(json_state::field(saved, "chosen"), "chosen", d);
       const nlohmann::json& saved_preview = json_state::field(saved, "preview");
       preview = json_state::within(
           "preview", [&] { return json_state::read_preview<Preview>(saved_preview, d); });

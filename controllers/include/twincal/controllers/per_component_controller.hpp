@@ -121,8 +121,8 @@ class PerComponentController {
   ///         the controller unchanged.
   void restore(const nlohmann::json& saved) requires SnapshotController<Component> {
     json_state::require_header(saved, json_format, dimension());
-    const nlohmann::json& saved_components =
-        json_state::require_array(json_state::field(saved, "components"), "components", dimension());
+    const nlohmann::json& saved_components = json_state::require_array(
+        json_state::field(saved, "components"), "components", dimension());
     std::vector<Component> restored = components_;  // all or nothing
     for (std::size_t i = 0; i < restored.size(); ++i) {
       json_state::within(fmt::format("components[{}]", i),

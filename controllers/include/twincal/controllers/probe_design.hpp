@@ -62,7 +62,9 @@ struct NoProbe {
   /// No state: the format alone.
   [[nodiscard]] nlohmann::json save() const { return {{"format", json_format}}; }
   /// @throws InvalidArgumentError for another format.
-  void restore(const nlohmann::json& saved) const { json_state::require_format(saved, json_format); }
+  void restore(const nlohmann::json& saved) const {
+    json_state::require_format(saved, json_format);
+  }
 };
 
 }  // namespace twincal

@@ -62,8 +62,8 @@ concept QualityFilter = requires(F& filter, const F& const_filter, double z,
 /// needs (SnapshotController, controller.hpp). restore() changes revision(), so a controller that
 /// restores a pending preview stamps it with the new one.
 template <typename F>
-concept SnapshotFilter = QualityFilter<F> && requires(const F& filter, F& target,
-                                                      const nlohmann::json& saved) {
+concept SnapshotFilter = QualityFilter<F> &&
+    requires(const F& filter, F& target, const nlohmann::json& saved) {
   { filter.save() } -> std::same_as<nlohmann::json>;
   target.restore(saved);
   { filter.revision() } -> std::convertible_to<std::uint64_t>;

@@ -112,12 +112,12 @@ struct ExternalTwinOptions {
 
 /// What went wrong with an external twin.
 enum class ExternalTwinFailure {
-  start_failed,     ///< the executable could not be started
-  crashed,          ///< the child exited or closed its output during a request
-  timeout,          ///< no reply before the deadline (the child was killed)
-  malformed_reply,  ///< the reply was not the protocol's JSON (the child was killed)
-  wrong_count,      ///< the reply had a different number of qualities than controls
-  twin_error,       ///< the child answered {"error": …}
+  start_failed,         ///< the executable could not be started
+  crashed,              ///< the child exited or closed its output during a request
+  timeout,              ///< no reply before the deadline (the child was killed)
+  malformed_reply,      ///< the reply was not the protocol's JSON (the child was killed)
+  wrong_count,          ///< the reply had a different number of qualities than controls
+  twin_error,           ///< the child answered {"error": …}
   implausible_quality,  ///< a quality below 0 or above max_quality (the child is kept)
 };
 
