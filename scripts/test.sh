@@ -2,7 +2,9 @@
 # Install what is missing, build, and run the whole test suite (ctest).
 #   ./scripts/test.sh                       release build in build/ (Clang 14, see common.sh)
 #   ./scripts/test.sh --sanitizers address,undefined
-#                                           instrumented build in build-sanitizers/ (tests only)
+#                                           instrumented build in build-sanitizers/: the test
+#                                           suites and the fuzzers of fuzz/ (docs/fuzzing.md;
+#                                           TWINCAL_FUZZ_SECONDS per search, default 60)
 #   ./scripts/test.sh --gcc                 GCC 12 build in build-gcc/ of the libraries and the
 #                                           programs twincal and twincal_calculix_twin (no
 #                                           tests): what a user's default
@@ -21,7 +23,8 @@ if [ "${1:-}" = "--sanitizers" ]; then
   # No Python module: CPython is not instrumented, so ASan would have to be preloaded into it.
   options=(-DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-g1 -O1"
            "-DTWINCAL_SANITIZERS=${2//,/;}" -DTWINCAL_BUILD_BENCHMARKS=OFF
-           -DTWINCAL_BUILD_EXAMPLES=OFF -DTWINCAL_BUILD_APPS=OFF -DTWINCAL_BUILD_PYTHON=OFF)
+           -DTWINCAL_BUILD_EXAMPLES=OFF -DTWINCAL_BUILD_APPS=OFF -DTWINCAL_BUILD_PYTHON=OFF
+           -DTWINCAL_BUILD_FUZZERS=ON "-DTWINCAL_FUZZ_SECONDS=${TWINCAL_FUZZ_SECONDS:-60}")
 elif [ "${1:-}" = "--gcc" ]; then
   build_dir="$TWINCAL_ROOT/build-gcc"
   TWINCAL_CXX=g++

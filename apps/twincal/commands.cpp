@@ -27,8 +27,8 @@
 
 #include "arguments.hpp"
 #include "twincal/core/error.hpp"
-#include "twincal/core/json_nesting.hpp"
 #include "twincal/core/options.hpp"
+#include "twincal/experiments/config_file.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
 #include "twincal/experiments/result_store.hpp"
@@ -76,41 +76,6 @@ constexpr const char* execution_help =
   --quiet                no progress line
   --dry-run              list the groups and episodes, run nothing
 )";
-
-json read_json_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path, fmt::format("{}: cannot be opened", path));
-  // Read in chunks (GCC 12 sees a null dereference in istreambuf_iterator's inlined code).
-  std::string text;
-  std::array<char, 1 << 16> chunk{};
-  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
-    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
-  }
-  require_json_nesting(text, path);
-  // A key given twice in one object is a mistake, not an override: refused, naming it.
-  std::vector<std::set<std::string>> keys;  // per open object
-  const json::parser_callback_t no_duplicates = [&](int, json::parse_event_t event, json& parsed) {
-    if (event == json::parse_event_t::object_start) {
-      keys.emplace_back();
-    } else if (event == json::parse_event_t::object_end) {
-      keys.pop_back();
-    } else if (event == json::parse_event_t::key && !keys.empty()) {
-      const std::string key = parsed.get<std::string>();
-      if (!keys.back().insert(key).second) {
-        throw InvalidArgumentError(
-            path, fmt::format("{}: the key \"{}\" appears twice in one object; rule: each key "
-                              "at most once",
-                              path, key));
-      }
-    }
-    return true;
-  };
-  try {
-    return json::parse(text, no_duplicates);
-  } catch (const json::exception& error) {
-    throw InvalidArgumentError(path, fmt::format("{}: is not valid JSON ({})", path, error.what()));
-  }
-}
 
 // The items of a comma-separated list ("" is one empty item, which the parsers refuse).
 std::vector<std::string_view> split_commas(std::string_view list) {
@@ -161,7 +126,7 @@ ExperimentConfig read_config(
   ExperimentConfig config;
   config.controllers = default_controllers;
   if (const auto path = arguments.text("config")) {
-    const json document = read_json_file(*path);
+    const json document = read_config_file(*path);
     config = document;
     if (!document.contains("controllers")) config.controllers = default_controllers;
   }
@@ -476,7 +441,7 @@ group "<base>/<key>=<value> ..." tagged with its axis values.
   const fs::path out = arguments.text("out").value_or("results/sweep");
   const RunOptions options = read_run_options(arguments);
   const bool dry_run = arguments.flag("dry-run");
-  std::vector<ExperimentGroup> groups = expand_sweep(read_json_file(*path));
+  std::vector<ExperimentGroup> groups = expand_sweep(read_config_file(*path));
   std::vector<ExperimentConfig> configs;
   for (const ExperimentGroup& group : groups) configs.push_back(group.config);
   apply_twin_options(arguments, configs);

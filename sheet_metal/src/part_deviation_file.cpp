@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <istream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,9 +39,8 @@ std::vector<std::string_view> split(std::string_view line) {
   return fields;
 }
 
-[[noreturn]] void fail(const std::filesystem::path& path, std::size_t line,
-                       const std::string& problem) {
-  throw InvalidArgumentError(path.string(), fmt::format("{}:{}: {}", path.string(), line, problem));
+[[noreturn]] void fail(std::string_view name, std::size_t line, const std::string& problem) {
+  throw InvalidArgumentError(std::string(name), fmt::format("{}:{}: {}", name, line, problem));
 }
 
 }  // namespace
@@ -75,7 +75,13 @@ VectorX PartDeviationFile::with_slopes(const PlateMesh& mesh, const Eigen::Ref<c
 
 VectorX PartDeviationFile::read(const std::filesystem::path& path, const PlateMesh& mesh) {
   std::ifstream in(path);
-  if (!in) fail(path, 0, "cannot open the file; rule: must be a readable part deviation file");
+  if (!in) {
+    fail(path.string(), 0, "cannot open the file; rule: must be a readable part deviation file");
+  }
+  return read(in, path.string(), mesh);
+}
+
+VectorX PartDeviationFile::read(std::istream& in, std::string_view name, const PlateMesh& mesh) {
   std::string line;
   std::size_t line_number = 0;
   Index columns = 0;
@@ -93,13 +99,13 @@ VectorX PartDeviationFile::read(const std::filesystem::path& path, const PlateMe
       } else if (text == "x,y,w,theta_x,theta_y") {
         columns = 5;
       } else {
-        fail(path, line_number,
+        fail(name, line_number,
              fmt::format("header is '{}'; rule: must be 'x,y,w' or 'x,y,w,theta_x,theta_y'", text));
       }
       continue;
     }
     if (static_cast<Index>(fields.size()) != columns) {
-      fail(path, line_number,
+      fail(name, line_number,
            fmt::format("row has {} fields; rule: must have {}", fields.size(), columns));
     }
     std::array<double, 5> numbers{};
@@ -109,19 +115,19 @@ VectorX PartDeviationFile::read(const std::filesystem::path& path, const PlateMe
           std::from_chars(field.data(), field.data() + field.size(), numbers[k]);
       if (error != std::errc() || end != field.data() + field.size() ||
           !std::isfinite(numbers[k])) {
-        fail(path, line_number,
+        fail(name, line_number,
              fmt::format("field {} is '{}'; rule: must be a finite number", k + 1, field));
       }
     }
     const std::optional<Index> node = mesh.find_node(numbers[0], numbers[1], 1e-3);
     if (!node) {
-      fail(path, line_number,
+      fail(name, line_number,
            fmt::format("point ({}, {}) is not a mesh node; rule: must match a node of the "
                        "{} x {} mesh within 1e-3 mm",
                        numbers[0], numbers[1], mesh.elements_x(), mesh.elements_y()));
     }
     if (seen[static_cast<std::size_t>(*node)]) {
-      fail(path, line_number,
+      fail(name, line_number,
            fmt::format("node at ({}, {}) appears again; rule: each node exactly once", numbers[0],
                        numbers[1]));
     }
@@ -131,9 +137,9 @@ VectorX PartDeviationFile::read(const std::filesystem::path& path, const PlateMe
       values(PlateMesh::dof(*node, c)) = numbers[static_cast<std::size_t>(2 + c)];
     }
   }
-  if (columns == 0) fail(path, line_number, "no header; rule: the file must start with one");
+  if (columns == 0) fail(name, line_number, "no header; rule: the file must start with one");
   if (rows != mesh.node_count()) {
-    fail(path, line_number,
+    fail(name, line_number,
          fmt::format("has {} node rows; rule: must have one per node ({})", rows,
                      mesh.node_count()));
   }

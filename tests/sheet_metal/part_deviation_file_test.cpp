@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -96,6 +97,25 @@ TEST_F(PartDeviationFileTest, BadFilesNameTheFileLineAndRule) {
     full += fmt::format("{},{},0.5\n", mesh_.x(node), mesh_.y(node));
   }
   EXPECT_EQ(read_error(write_text("ok.csv", full)), "no error");
+}
+
+TEST_F(PartDeviationFileTest, ReadsAStreamAsItReadsAFileNamingTheGivenName) {
+  std::string text = "x,y,w\n";
+  for (Index node = 0; node < mesh_.node_count(); ++node) {
+    text +=
+        fmt::format("{},{},{}\n", mesh_.x(node), mesh_.y(node), 0.1 * static_cast<double>(node));
+  }
+  std::istringstream in(text);
+  EXPECT_EQ(PartDeviationFile::read(in, "scan 42", mesh_),
+            PartDeviationFile::read(write_text("s.csv", text), mesh_));
+  std::istringstream bad("x,y,w\n0,0,nan\n");
+  try {
+    (void)PartDeviationFile::read(bad, "scan 42", mesh_);
+    FAIL() << "a NaN deviation was read";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_EQ(error.argument(), "scan 42");
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("scan 42:2: field 3 is 'nan'"));
+  }
 }
 
 TEST_F(PartDeviationFileTest, WriteChecksTheSize) {

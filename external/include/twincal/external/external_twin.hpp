@@ -53,10 +53,11 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
-#include "twincal/core/json_nesting.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/external/child_groups.hpp"
+#include "twincal/external/external_twin_failure.hpp"
+#include "twincal/external/twin_reply.hpp"
 #include "twincal/models/twin.hpp"
 
 extern char** environ;  // NOLINT: POSIX, passed to the child unchanged
@@ -109,37 +110,6 @@ struct ExternalTwinOptions {
     return std::nullopt;
   }
 };
-
-/// What went wrong with an external twin.
-enum class ExternalTwinFailure {
-  start_failed,         ///< the executable could not be started
-  crashed,              ///< the child exited or closed its output during a request
-  timeout,              ///< no reply before the deadline (the child was killed)
-  malformed_reply,      ///< the reply was not the protocol's JSON (the child was killed)
-  wrong_count,          ///< the reply had a different number of qualities than controls
-  twin_error,           ///< the child answered {"error": …}
-  implausible_quality,  ///< a quality below 0 or above max_quality (the child is kept)
-};
-
-[[nodiscard]] constexpr std::string_view to_string(ExternalTwinFailure failure) noexcept {
-  switch (failure) {
-    case ExternalTwinFailure::start_failed:
-      return "could not start";
-    case ExternalTwinFailure::crashed:
-      return "crashed";
-    case ExternalTwinFailure::timeout:
-      return "timed out";
-    case ExternalTwinFailure::malformed_reply:
-      return "malformed reply";
-    case ExternalTwinFailure::wrong_count:
-      return "wrong number of qualities";
-    case ExternalTwinFailure::twin_error:
-      return "reported an error";
-    case ExternalTwinFailure::implausible_quality:
-      return "answered an implausible quality";
-  }
-  return "unknown failure";
-}
 
 class ExternalTwinError : public Error {
  public:
@@ -264,7 +234,7 @@ class ExternalTwin {
       throw fail(ExternalTwinFailure::malformed_reply,
                  fmt::format("unrequested output {} before the request; the child {} and "
                              "will be restarted",
-                             shown_text(unsolicited), ended));
+                             quoted_output(unsolicited), ended));
     }
     if (!running()) start(assembly, controls);
     const Clock::time_point deadline =
@@ -403,7 +373,7 @@ class ExternalTwin {
         return line;
       }
       if (buffer_.size() > options_.max_reply_bytes) {
-        const std::string shown = shown_text(buffer_);
+        const std::string shown = quoted_output(buffer_);
         const std::string ended = stop(/*graceful=*/false);
         throw fail(ExternalTwinFailure::malformed_reply,
                    fmt::format("the reply exceeds {} bytes without a newline (max_reply_bytes): "
@@ -430,7 +400,8 @@ class ExternalTwin {
       throw fail(
           ExternalTwinFailure::crashed,
           fmt::format("{} before a complete reply{}; the child {}", reason,
-                      partial.empty() ? "" : fmt::format(" (got {})", shown_text(partial)), ended));
+                      partial.empty() ? "" : fmt::format(" (got {})", quoted_output(partial)),
+                      ended));
     }
   }
 
@@ -444,65 +415,18 @@ class ExternalTwin {
     }
   }
 
-  // The first 200 bytes of a child's output as a JSON string: bytes that are not UTF-8 become
-  // U+FFFD, so the message can go anywhere text goes (a results file, a serve reply).
-  static std::string shown_text(std::string_view text) {
-    return nlohmann::json(std::string(text.substr(0, 200)))
-        .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  }
-
+  // Must hold mutex_. Reads the reply's qualities into `out`; a reply that is not the protocol's
+  // JSON also stops the child (the stream cannot be trusted), which is restarted on next use.
   template <typename Fail>
   void parse_reply(const std::string& line, std::uint64_t id, Eigen::Ref<VectorX> out,
                    const Fail& fail) const {
-    const auto malformed = [&](std::string_view why) {
+    std::optional<TwinReplyFault> fault = read_twin_reply(line, id, options_.max_quality, out);
+    if (!fault) return;
+    if (fault->failure == ExternalTwinFailure::malformed_reply) {
       const std::string ended = stop(/*graceful=*/false);
-      return fail(
-          ExternalTwinFailure::malformed_reply,
-          fmt::format("{}: {}; the child {} and will be restarted", why, shown_text(line), ended));
-    };
-    if (json_nesting_depth(line) > max_json_nesting) {
-      throw malformed("the reply nests deeper than 64 arrays and objects");
+      fault->detail += fmt::format("; the child {} and will be restarted", ended);
     }
-    const nlohmann::json reply = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-    if (reply.is_discarded()) throw malformed("the reply is not JSON");
-    // A reply's strings may hold bytes that are not UTF-8: quoted as U+FFFD, not thrown.
-    const auto quoted = [](const nlohmann::json& value) {
-      return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-    };
-    if (!reply.is_object()) throw malformed("the reply is not a JSON object");
-    if (const auto echoed = reply.find("id"); echoed != reply.end() && *echoed != id) {
-      throw malformed(fmt::format("the reply is for request {}, not {}", quoted(*echoed), id));
-    }
-    if (const auto error = reply.find("error"); error != reply.end()) {
-      throw fail(ExternalTwinFailure::twin_error,
-                 error->is_string() ? error->get<std::string>() : quoted(*error));
-    }
-    const auto qualities = reply.find("qualities");
-    if (qualities == reply.end() || !qualities->is_array()) {
-      throw malformed("the reply has no \"qualities\" array");
-    }
-    if (static_cast<Index>(qualities->size()) != out.size()) {
-      throw fail(ExternalTwinFailure::wrong_count,
-                 fmt::format("the reply has {} qualities; rule: must have {}, one per control",
-                             qualities->size(), out.size()));
-    }
-    for (Index j = 0; j < out.size(); ++j) {
-      const nlohmann::json& q = (*qualities)[static_cast<std::size_t>(j)];
-      if (q.is_number()) {
-        out(j) = q.get<double>();
-        if (!(out(j) >= 0.0 && out(j) <= options_.max_quality)) {
-          throw fail(ExternalTwinFailure::implausible_quality,
-                     fmt::format("quality {} is {}; rule: a quality is an RMS deviation in "
-                                 "[0, max_quality = {}] mm, or null for a control the twin "
-                                 "could not evaluate",
-                                 j, quoted(q), options_.max_quality));
-        }
-      } else if (q.is_null()) {
-        out(j) = std::numeric_limits<double>::quiet_NaN();
-      } else {
-        throw malformed(fmt::format("quality {} is not a number or null", j));
-      }
-    }
+    throw fail(fault->failure, fault->detail);
   }
 
   ExternalTwinOptions options_;

@@ -12,6 +12,8 @@
 /// inside, one-sided three-point at the edges).
 
 #include <filesystem>
+#include <istream>
+#include <string_view>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/sheet_metal/plate_mesh.hpp"
@@ -25,6 +27,8 @@ class PartDeviationFile {
   ///         header is unknown, a row is malformed or not finite, a point is not a node, a node
   ///         repeats or is missing.
   [[nodiscard]] static VectorX read(const std::filesystem::path& path, const PlateMesh& mesh);
+  /// read() of the text in `in`, a file called `name` in messages.
+  [[nodiscard]] static VectorX read(std::istream& in, std::string_view name, const PlateMesh& mesh);
 
   /// Writes `deviations` (w, θx, θy per node of `mesh`) with slope columns, full precision.
   /// @throws DimensionMismatchError for a wrong size; InvalidArgumentError when the file cannot
