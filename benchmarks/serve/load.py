@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Load on `twincal serve` (issue 14): N assemblies through the TCP interface with the analytic
+"""Load on `twincal serve`: N assemblies through the TCP interface with the analytic
 twin at d = 3, every locator, the active controller. Reports assemblies per second, the median
 and p99 latency of propose and observe as the cell sees them (request written → reply read,
 loopback TCP), and the database's size after a checkpoint.
