@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzz_database.hpp"
+#include "twincal/external/twin_reply.hpp"
 #include "twincal/serve/serve_session.hpp"
 
 namespace {
@@ -35,12 +36,6 @@ ServeOptions session_options() {
   return options;
 }
 
-// `text` as a JSON string, whatever its bytes.
-std::string shown(std::string_view text) {
-  return nlohmann::json(std::string(text))
-      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -55,7 +50,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const nlohmann::json parsed = nlohmann::json::parse(reply, nullptr, false);
     if (parsed.is_discarded() || !parsed.is_object() || !parsed.contains("ok") ||
         !parsed.at("ok").is_boolean() || !parsed.contains("op")) {
-      broken(fmt::format("the reply {} to {} is not a reply", reply, shown(line)));
+      broken(fmt::format("the reply {} to {} is not a reply", reply, quoted_output(line)));
     }
   }
   const ServeSession resumed = ServeSession::resume(database, Durability::normal);
