@@ -3,10 +3,13 @@
 include(CMakePackageConfigHelpers)
 set(TWINCAL_CMAKE_DIR "${CMAKE_INSTALL_LIBDIR}/cmake/twincal")
 install(EXPORT twincalTargets NAMESPACE twincal:: DESTINATION "${TWINCAL_CMAKE_DIR}")
-get_property(TWINCAL_PACKAGE_NEEDS_SQLITE3 GLOBAL PROPERTY TWINCAL_PACKAGE_NEEDS_SQLITE3)
-if(NOT TWINCAL_PACKAGE_NEEDS_SQLITE3)
-  set(TWINCAL_PACKAGE_NEEDS_SQLITE3 OFF)
-endif()
+foreach(dependency IN ITEMS SQLITE3 MPI)
+  get_property(TWINCAL_PACKAGE_NEEDS_${dependency} GLOBAL PROPERTY
+    TWINCAL_PACKAGE_NEEDS_${dependency})
+  if(NOT TWINCAL_PACKAGE_NEEDS_${dependency})
+    set(TWINCAL_PACKAGE_NEEDS_${dependency} OFF)
+  endif()
+endforeach()
 configure_package_config_file(
   "${PROJECT_SOURCE_DIR}/cmake/twincalConfig.cmake.in"
   "${PROJECT_BINARY_DIR}/twincalConfig.cmake"

@@ -31,13 +31,19 @@
 #include "twincal/experiments/config_file.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
+#include "twincal/experiments/result_merge.hpp"
 #include "twincal/experiments/result_store.hpp"
+#include "twincal/experiments/study_shard.hpp"
 #include "twincal/experiments/summary_table.hpp"
 #include "twincal/experiments/sweep.hpp"
 #include "twincal/experiments/twin_cases.hpp"
 #include "twincal/serve/history_export.hpp"
 #include "twincal/serve/line_server.hpp"
 #include "twincal/serve/serve_session.hpp"
+#if TWINCAL_WITH_MPI
+#include "twincal/distributed/mpi_environment.hpp"
+#include "twincal/distributed/mpi_experiment_runner.hpp"
+#endif
 
 namespace twincal::cli {
 namespace {
@@ -72,7 +78,10 @@ constexpr const char* config_options_help =
 
 constexpr const char* execution_help =
     R"(  --out DIR              results directory (created; rerunning resumes it)
-  --threads N            worker threads (default: all cores)
+  --threads N            worker threads (default: all cores; under mpirun/srun each rank runs
+                         one episode at a time: docs/distributed.md)
+  --shard i/N            run only shard i of N (episode k is shard k mod N's; 0 <= i < N);
+                         `twincal merge` joins the shards' directories
   --quiet                no progress line
   --dry-run              list the groups and episodes, run nothing
 )";
@@ -161,6 +170,7 @@ ExperimentConfig read_config(
 RunOptions read_run_options(Arguments& arguments) {
   RunOptions options;
   if (const auto v = arguments.integer("threads")) options.threads = *v;
+  if (const auto v = arguments.text("shard")) options.shard = parse_study_shard(*v, "--shard");
   options.progress = !arguments.flag("quiet");
   return options;
 }
@@ -203,19 +213,28 @@ int list_study(const std::vector<ExperimentGroup>& groups) {
   return 0;
 }
 
-// Runs the groups into `out`, then prints what was done and the summary of these groups.
-int run_study(const std::vector<ExperimentGroup>& groups, const fs::path& out,
-              const RunOptions& options, bool dry_run) {
-  if (dry_run) return list_study(groups);
-  ResultStore store(out);
-  const RunReport report = run_experiments(groups, store, options);
-  const Index threads =
-      options.threads > 0
-          ? options.threads
-          : std::max<Index>(1, static_cast<Index>(std::thread::hardware_concurrency()));
-  fmt::print("{} episodes: {} run now, {} already in {}; {:.1f} s on {} thread(s)\n\n",
-             report.planned, report.completed, report.skipped, out.string(), report.seconds,
-             threads);
+// The ranks of the MPI job this process was started in, from the launcher's environment
+// (OpenMPI's mpirun, MPICH/Slurm PMI, PMIx); 0 when no launcher started it.
+Index launched_ranks() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    if (const char* value = std::getenv(name)) return std::max<Index>(1, std::atoll(value));
+  }
+  if (std::getenv("PMIX_RANK") != nullptr) {
+    const char* tasks = std::getenv("SLURM_NTASKS");
+    return tasks != nullptr ? std::max<Index>(1, std::atoll(tasks)) : 1;
+  }
+  return 0;
+}
+
+// What was done and the summary of these groups.
+void print_study(const std::vector<ExperimentGroup>& groups, const ResultStore& store,
+                 const RunReport& report, const std::string& workers) {
+  fmt::print("{} episodes: {} run now, {} already in {}{}; {:.1f} s on {}\n\n", report.planned,
+             report.completed, report.skipped, store.directory().string(),
+             report.in_other_shards > 0
+                 ? fmt::format(", {} left to other shards", report.in_other_shards)
+                 : std::string(),
+             report.seconds, workers);
   std::set<std::string> names;
   for (const ExperimentGroup& group : groups) names.insert(group.config.group_name());
   std::vector<SummaryRow> rows;
@@ -230,6 +249,48 @@ int run_study(const std::vector<ExperimentGroup>& groups, const fs::path& out,
   if (const std::string departures = format_departures(studied); !departures.empty()) {
     fmt::print("\n{}", departures);
   }
+}
+
+#if TWINCAL_WITH_MPI
+// run_study over the ranks of the MPI job; only rank 0 prints.
+int run_study_mpi(const std::vector<ExperimentGroup>& groups, const fs::path& out,
+                  const RunOptions& options) {
+  const MpiEnvironment mpi;
+  const RunReport report = run_experiments_mpi(groups, out, options, mpi);
+  if (mpi.rank() == 0) {
+    print_study(groups, ResultStore(out), report, fmt::format("{} MPI rank(s)", mpi.size()));
+  }
+  return 0;
+}
+#endif
+
+// Runs the groups into `out` (over the ranks of an MPI job when started by mpirun or srun),
+// then prints what was done and the summary of these groups.
+int run_study(const std::vector<ExperimentGroup>& groups, const fs::path& out,
+              const RunOptions& options, bool dry_run) {
+  if (dry_run) return list_study(groups);
+  if (const Index ranks = launched_ranks(); ranks > 0) {
+#if TWINCAL_WITH_MPI
+    return run_study_mpi(groups, out, options);
+#else
+    if (ranks > 1) {
+      throw InvalidArgumentError(
+          "mpirun",
+          fmt::format("mpirun: started as one of {} MPI ranks, but this twincal was built without "
+                      "MPI; rule: build with MPI (libopenmpi-dev, TWINCAL_MPI=ON, "
+                      "docs/distributed.md), or use --shard i/N to split a study without it — "
+                      "{} copies of one study would write the same directory",
+                      ranks, ranks));
+    }
+#endif
+  }
+  ResultStore store(out);
+  const RunReport report = run_experiments(groups, store, options);
+  const Index threads =
+      options.threads > 0
+          ? options.threads
+          : std::max<Index>(1, static_cast<Index>(std::thread::hardware_concurrency()));
+  print_study(groups, store, report, fmt::format("{} thread(s)", threads));
   return 0;
 }
 
@@ -448,6 +509,34 @@ group "<base>/<key>=<value> ..." tagged with its axis values.
   for (std::size_t g = 0; g < groups.size(); ++g) groups[g].config = configs[g];
   arguments.require_all_read();
   return run_study(groups, out, options, dry_run);
+}
+
+int merge_command(std::span<const std::string> args) {
+  constexpr const char* help = R"(usage: twincal merge --out DIR --shards DIR0,DIR1,...
+
+Joins the results directories of a study's shards (each written by the same command with
+--shard i/N, e.g. the tasks of a Slurm job array) into DIR, a new results directory: the one the
+whole study run at once writes, byte for byte apart from the wall-time columns. Episodes that no
+shard holds are left out; running the study on DIR runs only those. Prints the summary table.
+)";
+  Arguments arguments(args, common_flags);
+  if (wants_help(arguments, help)) return 0;
+  const std::optional<std::string> out = arguments.text("out");
+  const std::optional<std::string> list = arguments.text("shards");
+  arguments.require_all_read();
+  if (!out) throw InvalidArgumentError("out", "--out: is missing; rule: merge needs one");
+  if (!list) throw InvalidArgumentError("shards", "--shards: is missing; rule: merge needs them");
+  std::vector<fs::path> shards;
+  for (const std::string_view item : split_commas(*list)) shards.emplace_back(item);
+  const MergeReport report = merge_results(shards, *out);
+  fmt::print("{} of {} episodes merged from {} shard(s) into {}{}\n\n", report.merged,
+             report.planned, shards.size(), *out,
+             report.missing() > 0 ? fmt::format("; {} missing (run the study on {} to add them)",
+                                                report.missing(), *out)
+                                  : std::string());
+  const ResultStore store(*out);
+  fmt::print("{}", format_summary(summarize(store.groups(), store.episodes())));
+  return 0;
 }
 
 int summary_command(std::span<const std::string> args) {

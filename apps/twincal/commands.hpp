@@ -12,6 +12,7 @@ int scaling_command(std::span<const std::string> args);
 int sweep_command(std::span<const std::string> args);
 int plot_command(std::span<const std::string> args, const char* argv0);
 int summary_command(std::span<const std::string> args);
+int merge_command(std::span<const std::string> args);
 int serve_command(std::span<const std::string> args);
 int history_command(std::span<const std::string> args);
 

@@ -26,12 +26,14 @@ commands:
   plot      make the figures (PNG, SVG) and the Table 1 analog from a results directory, or
             the figure of a serve session's history
   summary   print the summary table of a results directory
+  merge     join the results directories of a study's shards (--shard i/N) into one
   serve     the online controller for a cell: JSON lines on stdin/stdout or TCP, its
             history in SQLite, resumable after a crash (docs/serve.md)
   history   export a serve session's history as CSV (`twincal plot --history` draws it)
 
 Results directories are resumable: rerunning a command skips the finished episodes.
-See docs/cli.md.
+run, paper, scaling and sweep run over the ranks of an MPI job when started by mpirun or srun
+(docs/distributed.md). See docs/cli.md.
 )";
 
 }  // namespace
@@ -53,6 +55,7 @@ int main(int argc, char** argv) {
     if (command == "sweep") return twincal::cli::sweep_command(rest);
     if (command == "plot") return twincal::cli::plot_command(rest, argv[0]);
     if (command == "summary") return twincal::cli::summary_command(rest);
+    if (command == "merge") return twincal::cli::merge_command(rest);
     if (command == "serve") return twincal::cli::serve_command(rest);
     if (command == "history") return twincal::cli::history_command(rest);
     fmt::print(stderr, "twincal: unknown command \"{}\"\n\n{}", command, usage);

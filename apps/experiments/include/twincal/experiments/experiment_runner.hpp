@@ -1,15 +1,18 @@
 #pragma once
 /// @file
 /// `run_experiments`: every episode (group × controller × run) of a study that a results
-/// directory does not hold yet, in parallel over episodes, stored as they finish.
+/// directory does not hold yet (of one shard, RunOptions::shard), in parallel over episodes,
+/// stored as they finish.
 ///
 /// Episodes are independent (run_episode) and each is run by one thread, so results do not
 /// depend on the thread count; they are also stored in the study's order (groups, then runs,
-/// then controllers) whatever order they finish in, so the files are the same for any thread
-/// count apart from the wall-time columns. A progress line goes to standard error when it is a
-/// terminal.
+/// then controllers) whatever order they finish in (StudySchedule), so the files are the same
+/// for any thread count apart from the wall-time columns. The same holds across the ranks of an
+/// MPI job (run_experiments_mpi, distributed/mpi_experiment_runner.hpp). A progress line goes
+/// to standard error when it is a terminal.
 
 #include <span>
+#include <vector>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/episode_runner.hpp"
@@ -34,6 +37,11 @@ Index require_study_fits(std::span<const ExperimentGroup> groups);
 /// `config.assemblies` is at most `twin`'s assemblies (run and dry run alike).
 /// @throws InvalidArgumentError naming the group.
 void require_twin_has_assemblies(const ExperimentConfig& config, const CaseTwin& twin);
+
+/// What every way of running a study builds first: require_study_fits, then make_case_twins
+/// (the u0(x), z*(x) of each group's assemblies), then require_twin_has_assemblies per group.
+/// @throws as those.
+[[nodiscard]] std::vector<CaseTwin> make_study_twins(std::span<const ExperimentGroup> groups);
 
 /// Runs the missing episodes of `groups` into `store` and rewrites its summary.json.
 ///

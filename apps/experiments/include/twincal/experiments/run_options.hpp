@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// `RunOptions`: how run_experiments executes a study — worker threads and the progress line.
-/// They do not change any result.
+/// `RunOptions`: how run_experiments executes a study — worker threads, the shard and the
+/// progress line. They do not change any result: a shard runs a part of the study, and the
+/// shards' directories merged (result_merge.hpp) are the whole study's.
 
 #include <optional>
 #include <string>
@@ -9,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/experiments/study_shard.hpp"
 
 namespace twincal {
 
@@ -17,11 +19,14 @@ struct RunOptions {
   Index threads = 0;
   /// Show the progress line (when standard error is a terminal).
   bool progress = true;
+  /// The part of the study to run (StudyShard: episode k belongs to shard k mod count).
+  StudyShard shard;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     if (threads < 0) {
       return fmt::format("threads is {}; rule: must be >= 0 (0: all cores)", threads);
     }
+    if (std::optional<std::string> problem = shard.validate()) return "shard " + *problem;
     return std::nullopt;
   }
 };

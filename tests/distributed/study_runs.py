@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""A study run whole, in shards, over MPI ranks and killed and resumed must write the same
+results directory, apart from its wall-time columns (compare_results.py).
+
+usage: study_runs.py TWINCAL WORKDIR shards
+       study_runs.py TWINCAL WORKDIR mpi MPIEXEC
+       study_runs.py TWINCAL WORKDIR mpi-kill MPIEXEC
+
+shards:   three `--shard i/3` runs merged equal the whole study; two of them merged and the
+          study run on the merge (it runs only the third's episodes) equal it in any order.
+mpi:      `mpiexec -n 1` and `-n 3` of `twincal run` and of `twincal paper` equal the
+          single-process runs.
+mpi-kill: a job of 3 ranks killed after a seeded number of stored episodes (mpiexec ended with
+          SIGTERM), then one of 3 ranks whose worker rank is killed (SIGKILL) mid-run, each
+          resumed with 2 ranks, equal the single-process run in any order, having run only what
+          was missing.
+"""
+import os
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+RUN = ["run", "--case", "analytic", "--runs", "3", "--assemblies", "20",
+       "--controllers", "baseline,default,w=1,active", "--quiet"]
+PAPER = ["paper", "--case", "body", "--runs", "2", "--assemblies", "30", "--quiet"]
+# ~0.2 s per episode, so that a kill lands mid-study.
+SLOW = ["run", "--case", "analytic", "--dimension", "10", "--locators", "all", "--runs", "16",
+        "--controllers", "baseline,w=1", "--quiet"]
+
+
+def run(command, **kwargs):
+    result = subprocess.run(command, capture_output=True, text=True, **kwargs)
+    if result.returncode != 0:
+        sys.exit(f"{' '.join(map(str, command))} exited {result.returncode}:\n"
+                 f"{result.stdout}\n{result.stderr}")
+    return result.stdout
+
+
+def compare(expected, actual, any_order=False):
+    run([sys.executable, HERE / "compare_results.py", expected, actual] +
+        (["--any-order"] if any_order else []))
+
+
+def mpi_environment():
+    env = dict(os.environ)
+    if os.geteuid() == 0:  # CI containers run as root, which OpenMPI refuses by default
+        env["OMPI_ALLOW_RUN_AS_ROOT"] = "1"
+        env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1"
+    return env
+
+
+def launcher(mpiexec, ranks):
+    version = subprocess.run([mpiexec, "--version"], capture_output=True, text=True).stdout
+    extra = ["--oversubscribe"] if "Open MPI" in version or "OpenRTE" in version else []
+    return [mpiexec, "-n", str(ranks)] + extra
+
+
+def stored(directory):
+    path = Path(directory) / "episodes.jsonl"
+    return path.read_text().count("\n") if path.exists() else 0
+
+
+def shards(twincal, work):
+    run([twincal] + RUN + ["--out", work / "whole"])
+    for i in range(3):
+        run([twincal] + RUN + ["--out", work / f"shard{i}", "--shard", f"{i}/3"])
+    run([twincal, "merge", "--out", work / "merged",
+         "--shards", ",".join(str(work / f"shard{i}") for i in range(3))])
+    compare(work / "whole", work / "merged")
+    out = run([twincal, "merge", "--out", work / "partial",
+               "--shards", f"{work / 'shard0'},{work / 'shard2'}"])
+    assert "4 missing" in out, out
+    out = run([twincal] + RUN + ["--out", work / "partial"])
+    assert "4 run now, 8 already in" in out, out
+    compare(work / "whole", work / "partial", any_order=True)
+
+
+def mpi(twincal, work, mpiexec):
+    env = mpi_environment()
+    for name, args in (("run", RUN), ("paper", PAPER)):
+        run([twincal] + args + ["--out", work / f"{name}-single"])
+        for ranks in (1, 3):
+            out = run(launcher(mpiexec, ranks) + [twincal] + args +
+                      ["--out", work / f"{name}-mpi{ranks}"], env=env)
+            assert f"on {ranks} MPI rank(s)" in out, out
+            compare(work / f"{name}-single", work / f"{name}-mpi{ranks}")
+
+
+def kill_and_resume(twincal, work, mpiexec, out, kill):
+    env = mpi_environment()
+    job = subprocess.Popen(launcher(mpiexec, 3) + [twincal] + SLOW + ["--out", out], env=env,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                           start_new_session=True)
+    at = random.Random(2023).randint(2, 12)
+    deadline = time.monotonic() + 120
+    while stored(out) < at and job.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    if job.poll() is not None:
+        sys.exit(f"the job ended before it was killed: {job.stderr.read()}")
+    kill(job)
+    job.wait(timeout=60)
+    try:
+        os.killpg(job.pid, signal.SIGKILL)  # anything the launcher left behind
+    except ProcessLookupError:
+        pass
+    kept = stored(out)
+    planned = 32
+    assert kept < planned, f"{out}: all {kept} episodes were stored before the kill"
+    result = run(launcher(mpiexec, 2) + [twincal] + SLOW + ["--out", out], env=env)
+    assert f"{planned - kept} run now, {kept} already in" in result, result
+    compare(work / "slow-single", out, any_order=True)
+
+
+def mpi_kill(twincal, work, mpiexec):
+    run([twincal] + SLOW + ["--out", work / "slow-single"])
+
+    def end_launcher(job):
+        job.send_signal(signal.SIGTERM)
+
+    def kill_a_worker_rank(job):
+        # The ranks are the processes in the launcher's session running twincal; rank 0 opened
+        # the results, so kill one that did not: any but the lowest pid is not rank 0 for
+        # certain, so kill the newest.
+        pids = subprocess.run(["pgrep", "-s", str(job.pid), "-f", twincal],
+                              capture_output=True, text=True).stdout.split()
+        ranks = sorted(int(p) for p in pids if int(p) != job.pid)
+        if len(ranks) < 2:
+            sys.exit(f"found ranks {ranks} in the job's session")
+        os.kill(ranks[-1], signal.SIGKILL)
+
+    kill_and_resume(twincal, work, mpiexec, work / "killed", end_launcher)
+    kill_and_resume(twincal, work, mpiexec, work / "rank-died", kill_a_worker_rank)
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit(__doc__)
+    twincal, work, mode = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    if mode == "shards":
+        shards(twincal, work)
+    elif mode == "mpi":
+        mpi(twincal, work, sys.argv[4])
+    elif mode == "mpi-kill":
+        mpi_kill(twincal, work, sys.argv[4])
+    else:
+        sys.exit(__doc__)
+    print(f"{mode}: ok")
+
+
+if __name__ == "__main__":
+    main()
