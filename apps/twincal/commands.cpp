@@ -43,6 +43,7 @@
 #if TWINCAL_WITH_MPI
 #include "twincal/distributed/mpi_environment.hpp"
 #include "twincal/distributed/mpi_experiment_runner.hpp"
+#include "twincal/distributed/mpi_twin_service.hpp"
 #endif
 
 namespace twincal::cli {
@@ -82,6 +83,8 @@ constexpr const char* execution_help =
                          one episode at a time: docs/distributed.md)
   --shard i/N            run only shard i of N (episode k is shard k mod N's; 0 <= i < N);
                          `twincal merge` joins the shards' directories
+  --mpi-twin-pool        under mpirun/srun: rank 0 runs the study on its threads and the other
+                         ranks run the external twins' programs (docs/distributed.md)
   --quiet                no progress line
   --dry-run              list the groups and episodes, run nothing
 )";
@@ -167,11 +170,21 @@ ExperimentConfig read_config(
   return config;
 }
 
-RunOptions read_run_options(Arguments& arguments) {
-  RunOptions options;
-  if (const auto v = arguments.integer("threads")) options.threads = *v;
-  if (const auto v = arguments.text("shard")) options.shard = parse_study_shard(*v, "--shard");
-  options.progress = !arguments.flag("quiet");
+// How a study command runs: the run options, and whether an MPI job's other ranks are the
+// external twins' workers (--mpi-twin-pool) rather than running episodes.
+struct ExecutionOptions {
+  RunOptions run;
+  bool mpi_twin_pool = false;
+};
+
+ExecutionOptions read_execution_options(Arguments& arguments) {
+  ExecutionOptions options;
+  if (const auto v = arguments.integer("threads")) options.run.threads = *v;
+  if (const auto v = arguments.text("shard")) {
+    options.run.shard = parse_study_shard(*v, "--shard");
+  }
+  options.run.progress = !arguments.flag("quiet");
+  options.mpi_twin_pool = arguments.flag("mpi-twin-pool");
   return options;
 }
 
@@ -229,12 +242,13 @@ Index launched_ranks() {
 // What was done and the summary of these groups.
 void print_study(const std::vector<ExperimentGroup>& groups, const ResultStore& store,
                  const RunReport& report, const std::string& workers) {
-  fmt::print("{} episodes: {} run now, {} already in {}{}; {:.1f} s on {}\n\n", report.planned,
-             report.completed, report.skipped, store.directory().string(),
-             report.in_other_shards > 0
-                 ? fmt::format(", {} left to other shards", report.in_other_shards)
-                 : std::string(),
-             report.seconds, workers);
+  fmt::print(
+      "{} episodes: {} run now, {} already in {}{}; {:.1f} s on {} ({:.1f} s of it "
+      "building the twins)\n\n",
+      report.planned, report.completed, report.skipped, store.directory().string(),
+      report.in_other_shards > 0 ? fmt::format(", {} left to other shards", report.in_other_shards)
+                                 : std::string(),
+      report.seconds, workers, report.setup_seconds);
   std::set<std::string> names;
   for (const ExperimentGroup& group : groups) names.insert(group.config.group_name());
   std::vector<SummaryRow> rows;
@@ -252,14 +266,31 @@ void print_study(const std::vector<ExperimentGroup>& groups, const ResultStore& 
 }
 
 #if TWINCAL_WITH_MPI
-// run_study over the ranks of the MPI job; only rank 0 prints.
+// run_study over the ranks of the MPI job: episodes over every rank, or (--mpi-twin-pool) the
+// study on rank 0's threads and the external twins' workers on the other ranks. Only rank 0
+// prints.
 int run_study_mpi(const std::vector<ExperimentGroup>& groups, const fs::path& out,
-                  const RunOptions& options) {
+                  const ExecutionOptions& options) {
   const MpiEnvironment mpi;
-  const RunReport report = run_experiments_mpi(groups, out, options, mpi);
-  if (mpi.rank() == 0) {
-    print_study(groups, ResultStore(out), report, fmt::format("{} MPI rank(s)", mpi.size()));
+  if (!options.mpi_twin_pool) {
+    const RunReport report = run_experiments_mpi(groups, out, options.run, mpi);
+    if (mpi.rank() == 0) {
+      print_study(groups, ResultStore(out), report, fmt::format("{} MPI rank(s)", mpi.size()));
+    }
+    return 0;
   }
+  if (mpi.rank() != 0) {
+    serve_twin_requests(mpi);
+    return 0;
+  }
+  MpiTwinService service(mpi);
+  service.run([&] {
+    ResultStore store(out);
+    const RunReport report = run_experiments(groups, store, options.run, service.factory());
+    print_study(
+        groups, store, report,
+        fmt::format("rank 0, its twins' workers on {} other rank(s)", service.worker_ranks()));
+  });
   return 0;
 }
 #endif
@@ -267,11 +298,19 @@ int run_study_mpi(const std::vector<ExperimentGroup>& groups, const fs::path& ou
 // Runs the groups into `out` (over the ranks of an MPI job when started by mpirun or srun),
 // then prints what was done and the summary of these groups.
 int run_study(const std::vector<ExperimentGroup>& groups, const fs::path& out,
-              const RunOptions& options, bool dry_run) {
+              const ExecutionOptions& execution, bool dry_run) {
   if (dry_run) return list_study(groups);
-  if (const Index ranks = launched_ranks(); ranks > 0) {
+  const RunOptions& options = execution.run;
+  const Index ranks = launched_ranks();
+  if (execution.mpi_twin_pool && ranks < 2) {
+    throw InvalidArgumentError("mpi-twin-pool",
+                               "--mpi-twin-pool: the program was not started as one of several MPI "
+                               "ranks; rule: it needs mpirun or srun with at least 2 ranks (rank 0 "
+                               "runs the study, the others the external twins)");
+  }
+  if (ranks > 0) {
 #if TWINCAL_WITH_MPI
-    return run_study_mpi(groups, out, options);
+    return run_study_mpi(groups, out, execution);
 #else
     if (ranks > 1) {
       throw InvalidArgumentError(
@@ -300,7 +339,7 @@ bool wants_help(Arguments& arguments, const char* help) {
   return true;
 }
 
-const std::set<std::string, std::less<>> common_flags{"help", "quiet", "dry-run"};
+const std::set<std::string, std::less<>> common_flags{"help", "quiet", "dry-run", "mpi-twin-pool"};
 
 // --results must name a directory written by run, paper or sweep.
 void require_results_directory(const std::optional<std::string>& results) {
@@ -334,7 +373,7 @@ Runs one configuration: one twin case and locator set, its controllers, N runs.
   if (const auto v = arguments.text("locators")) config.locators = *v;
   if (const auto v = arguments.text("name")) config.name = *v;
   const fs::path out = arguments.text("out").value_or("results");
-  const RunOptions options = read_run_options(arguments);
+  const ExecutionOptions options = read_execution_options(arguments);
   const bool dry_run = arguments.flag("dry-run");
   arguments.require_all_read();
   return run_study({ExperimentGroup{config, json{{"case", to_string(config.twin_case)},
@@ -365,7 +404,7 @@ Table 1.
     cases = {parse_twin_case(which, "--case")};
   }
   const fs::path out = arguments.text("out").value_or("results/paper");
-  const RunOptions options = read_run_options(arguments);
+  const ExecutionOptions options = read_execution_options(arguments);
   const bool dry_run = arguments.flag("dry-run");
   arguments.require_all_read();
   return run_study(paper_study(cases, base), out, options, dry_run);
@@ -455,7 +494,7 @@ residual, diverged and lost fractions and Q-evaluations against the strength.
                                               ? std::vector<double>{0, 0.25, 0.5, 0.75, 1}
                                               : std::vector<double>{0, 0.5, 1, 1.5, 2};
     const fs::path out = arguments.text("out").value_or("results/nonlinearity");
-    const RunOptions options = read_run_options(arguments);
+    const ExecutionOptions options = read_execution_options(arguments);
     const bool dry_run = arguments.flag("dry-run");
     arguments.require_all_read();
     return run_study(nonlinearity_study(dimensions, strengths, base), out, options, dry_run);
@@ -472,7 +511,7 @@ residual, diverged and lost fractions and Q-evaluations against the strength.
     dimensions = {1, 2, 3, 6, 12, 19, 32};
   }
   const fs::path out = arguments.text("out").value_or("results/scaling");
-  const RunOptions options = read_run_options(arguments);
+  const ExecutionOptions options = read_execution_options(arguments);
   const bool dry_run = arguments.flag("dry-run");
   arguments.require_all_read();
   return run_study(scaling_study(twin_case, dimensions, base), out, options, dry_run);
@@ -500,7 +539,7 @@ group "<base>/<key>=<value> ..." tagged with its axis values.
   const std::optional<std::string> path = arguments.text("config");
   if (!path) throw InvalidArgumentError("config", "--config: is missing; rule: sweep needs one");
   const fs::path out = arguments.text("out").value_or("results/sweep");
-  const RunOptions options = read_run_options(arguments);
+  const ExecutionOptions options = read_execution_options(arguments);
   const bool dry_run = arguments.flag("dry-run");
   std::vector<ExperimentGroup> groups = expand_sweep(read_config_file(*path));
   std::vector<ExperimentConfig> configs;

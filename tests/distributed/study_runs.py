@@ -5,6 +5,7 @@ results directory, apart from its wall-time columns (compare_results.py).
 usage: study_runs.py TWINCAL WORKDIR shards
        study_runs.py TWINCAL WORKDIR mpi MPIEXEC
        study_runs.py TWINCAL WORKDIR mpi-kill MPIEXEC
+       study_runs.py TWINCAL WORKDIR mpi-twin-pool MPIEXEC
 
 shards:   three `--shard i/3` runs merged equal the whole study; two of them merged and the
           study run on the merge (it runs only the third's episodes) equal it in any order.
@@ -14,7 +15,13 @@ mpi-kill: a job of 3 ranks killed after a seeded number of stored episodes (mpie
           SIGTERM), then one of 3 ranks whose worker rank is killed (SIGKILL) mid-run, each
           resumed with 2 ranks, equal the single-process run in any order, having run only what
           was missing.
+mpi-twin-pool:
+          a study on an external twin (examples/external_twin/minimal_twin.py) with
+          `--mpi-twin-pool` over 2 and 3 ranks equals the single-process run; a twin whose
+          batches crash (tests/data/batch_crashing_twin.py) ends the study with the twin-failure
+          error, naming the rank.
 """
+import json
 import os
 import random
 import shutil
@@ -31,6 +38,33 @@ PAPER = ["paper", "--case", "body", "--runs", "2", "--assemblies", "30", "--quie
 # ~0.2 s per episode, so that a kill lands mid-study.
 SLOW = ["run", "--case", "analytic", "--dimension", "10", "--locators", "all", "--runs", "16",
         "--controllers", "baseline,w=1", "--quiet"]
+
+
+ROOT = HERE.parents[1]
+
+
+def external_config(work, program, name):
+    """A small study on the external twin `program` (a Python script), written to work/name."""
+    config = {
+        "case": "external",
+        "external_twin": {
+            "command": [sys.executable, str(program)],
+            "locators": ["A", "B", "C"],
+            "lower_bounds": [-1.0, -1.0, -1.0],
+            "upper_bounds": [1.0, 1.0, 1.0],
+            "upper_parts": 3,
+            "lower_parts": 3,
+            "workers": 1,
+            "optimum_budget": 16,
+        },
+        "locators": "all",
+        "controllers": ["baseline", "default", "w=1", "active"],
+        "runs": 2,
+        "assemblies": 9,
+    }
+    path = work / name
+    path.write_text(json.dumps(config))
+    return path
 
 
 def run(command, **kwargs):
@@ -137,6 +171,30 @@ def mpi_kill(twincal, work, mpiexec):
     kill_and_resume(twincal, work, mpiexec, work / "rank-died", kill_a_worker_rank)
 
 
+def mpi_twin_pool(twincal, work, mpiexec):
+    env = mpi_environment()
+    config = external_config(work, ROOT / "examples" / "external_twin" / "minimal_twin.py",
+                             "minimal.json")
+    study = [twincal, "run", "--config", config, "--quiet"]
+    run(study + ["--out", work / "single"])
+    for ranks in (2, 3):
+        out = run(launcher(mpiexec, ranks) + study +
+                  ["--out", work / f"pool{ranks}", "--mpi-twin-pool"], env=env)
+        assert f"its twins' workers on {ranks - 1} other rank(s)" in out, out
+        compare(work / "single", work / f"pool{ranks}")
+    crashing = external_config(work, ROOT / "tests" / "data" / "batch_crashing_twin.py",
+                               "crashing.json")
+    result = subprocess.run(launcher(mpiexec, 3) + [twincal, "run", "--config", crashing,
+                                                    "--controllers", "w=1", "--quiet",
+                                                    "--out", work / "crashing",
+                                                    "--mpi-twin-pool"],
+                            capture_output=True, text=True, env=env)
+    assert result.returncode != 0, result.stdout
+    for expected in ("episodes not stored because their twin failed", "external twin crashed",
+                     "rank 1: "):
+        assert expected in result.stderr, result.stderr
+
+
 def main():
     if len(sys.argv) < 4:
         sys.exit(__doc__)
@@ -149,6 +207,8 @@ def main():
         mpi(twincal, work, sys.argv[4])
     elif mode == "mpi-kill":
         mpi_kill(twincal, work, sys.argv[4])
+    elif mode == "mpi-twin-pool":
+        mpi_twin_pool(twincal, work, sys.argv[4])
     else:
         sys.exit(__doc__)
     print(f"{mode}: ok")

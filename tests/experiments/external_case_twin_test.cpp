@@ -1,7 +1,10 @@
 #include "twincal/experiments/external_case_twin.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -261,6 +264,97 @@ TEST(ExternalTwinSettings, RoundTripsThroughJsonAndRefusesUnknownKeys) {
   ASSERT_TRUE(impatient.validate().has_value());
   EXPECT_THAT(*impatient.validate(),
               HasSubstr("external_twin.startup_grace_ms is -1; rule: must be >= 0"));
+}
+
+}  // namespace
+}  // namespace twincal
+
+namespace twincal {
+namespace {
+
+// A backend in this process: the minimal twin's formula, counting which worker served what.
+class FormulaBackend final : public ExternalTwinBackend {
+ public:
+  explicit FormulaBackend(Index workers) : per_worker_(static_cast<std::size_t>(workers)) {}
+
+  [[nodiscard]] Index workers() const override { return std::ssize(per_worker_); }
+  [[nodiscard]] Index control_dimension() const override { return 3; }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const override { return names_; }
+  [[nodiscard]] const VectorX& lower_bounds() const override { return lower_; }
+  [[nodiscard]] const VectorX& upper_bounds() const override { return upper_; }
+
+  void quality_batch(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
+                     Eigen::Ref<VectorX> out) const override {
+    batches_ += 1;
+    evaluate(assembly, controls, out);
+  }
+  void worker_quality_batch(Index worker, const nlohmann::json& assembly,
+                            const Eigen::Ref<const MatrixX>& controls,
+                            Eigen::Ref<VectorX> out) const override {
+    per_worker_.at(static_cast<std::size_t>(worker)) += controls.cols();
+    evaluate(assembly, controls, out);
+  }
+
+  mutable std::vector<std::atomic<Index>> per_worker_;
+  mutable std::atomic<Index> batches_{0};
+
+ private:
+  static void evaluate(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
+                       Eigen::Ref<VectorX> out) {
+    const auto upper = static_cast<double>(assembly.at("upper").get<Index>());
+    const auto lower = static_cast<double>(assembly.at("lower").get<Index>());
+    for (Index j = 0; j < controls.cols(); ++j) {
+      double sum = 0.04;
+      for (Index i = 0; i < 3; ++i) {
+        const double a = 0.2 * std::sin(1.7 * upper + 0.9 * lower + static_cast<double>(i));
+        sum += (controls(i, j) - a) * (controls(i, j) - a);
+      }
+      out(j) = std::sqrt(sum);
+    }
+  }
+
+  std::vector<std::string> names_{"A", "B", "C"};
+  VectorX lower_ = VectorX::Constant(3, -1.0);
+  VectorX upper_ = VectorX::Constant(3, 1.0);
+};
+
+TEST(ExternalCaseTwin, RunsOnTheBackendItsFactoryMakesAndSearchesOneAssemblyPerWorker) {
+  ExternalTwinSettings settings = minimal_twin(1);
+  settings.command = {"a-program-that-is-never-started"};
+  const FormulaBackend* made = nullptr;
+  const ExternalCaseTwin twin(settings, [&](const ExternalTwinSettings& given) {
+    EXPECT_EQ(given.upper_parts, 2);
+    auto backend = std::make_unique<FormulaBackend>(3);
+    made = backend.get();
+    return backend;
+  });
+  ASSERT_NE(made, nullptr);
+  EXPECT_EQ(&twin.backend(), made);
+  // The u0 searches went one request per worker at a time, spread over all three workers.
+  Index searched = 0;
+  for (const std::atomic<Index>& count : made->per_worker_) {
+    EXPECT_GT(count.load(), 0);
+    searched += count.load();
+  }
+  EXPECT_EQ(static_cast<std::uint64_t>(searched), twin.search_evaluations());
+  EXPECT_NEAR(twin.optimal_quality({1, 2}), 0.2, 1e-9);
+  // A batch goes to the backend as one batch.
+  const MatrixX controls = MatrixX::Zero(3, 5);
+  VectorX out(5);
+  twin.quality_batch({1, 2}, controls, out);
+  EXPECT_EQ(made->batches_.load(), 1);
+  EXPECT_GT(out.minCoeff(), 0.2);
+}
+
+TEST(ExternalCaseTwin, RefusesAFactoryThatMakesNoBackend) {
+  try {
+    const ExternalCaseTwin twin(minimal_twin(1), [](const ExternalTwinSettings&) {
+      return std::unique_ptr<ExternalTwinBackend>();
+    });
+    ADD_FAILURE() << "a twin without a backend was made";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("backend: the factory made none"));
+  }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include "mpi_messages.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/stopwatch.hpp"
@@ -26,6 +27,10 @@
 namespace twincal {
 namespace {
 
+using mpi_messages::receive_bytes;
+using mpi_messages::send_bytes;
+using mpi_messages::wait_for_message;
+
 // Rank 0 → worker: an EpisodeTask as three int64 (group −1: stop).
 constexpr int task_tag = 1;
 // Worker → rank 0: an outcome (its first byte an OutcomeKind, then the payload).
@@ -36,38 +41,6 @@ constexpr int start_failure_tag = 3;
 enum class OutcomeKind : std::uint8_t { result = 0, twin_failure = 1, error = 2 };
 
 using TaskMessage = std::array<std::int64_t, 3>;
-
-// Waits for a message without spinning a core: MPI's blocking calls poll at full speed, which
-// would take the CPU from the episode running beside them (rank 0's own thread, or another rank
-// on an oversubscribed node). Backs off from 50 µs to 2 ms between probes.
-MPI_Status wait_for_message(MPI_Comm communicator, int source, int tag) {
-  MPI_Status status;
-  auto pause = std::chrono::microseconds(50);
-  for (;;) {
-    int arrived = 0;
-    MPI_Iprobe(source, tag, communicator, &arrived, &status);
-    if (arrived != 0) return status;
-    std::this_thread::sleep_for(pause);
-    pause = std::min(pause * 2, std::chrono::microseconds(2000));
-  }
-}
-
-std::vector<std::uint8_t> receive_bytes(MPI_Comm communicator, const MPI_Status& status) {
-  int count = 0;
-  MPI_Get_count(&status, MPI_BYTE, &count);
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(count));
-  MPI_Recv(bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, communicator,
-           MPI_STATUS_IGNORE);
-  return bytes;
-}
-
-void send_bytes(MPI_Comm communicator, const std::vector<std::uint8_t>& bytes, int tag) {
-  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
-    throw Error("MPI",
-                fmt::format("MPI: a message of {} bytes; rule: at most 2^31 − 1", bytes.size()));
-  }
-  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, 0, tag, communicator);
-}
 
 std::vector<std::uint8_t> outcome(OutcomeKind kind, std::string_view text) {
   std::vector<std::uint8_t> bytes{static_cast<std::uint8_t>(kind)};
@@ -114,7 +87,7 @@ std::optional<Prepared> prepare_together(std::span<const ExperimentGroup> groups
                                     std::string(bytes.begin(), bytes.end())));
   }
   if (rank == first_failed) {
-    send_bytes(mpi.communicator(), std::vector<std::uint8_t>(message.begin(), message.end()),
+    send_bytes(mpi.communicator(), std::vector<std::uint8_t>(message.begin(), message.end()), 0,
                start_failure_tag);
   }
   return std::nullopt;
@@ -138,7 +111,7 @@ void run_worker(std::span<const ExperimentGroup> groups, std::span<const CaseTwi
     } catch (const std::exception& error) {
       reply = outcome(OutcomeKind::error, error.what());
     }
-    send_bytes(communicator, reply, outcome_tag);
+    send_bytes(communicator, reply, 0, outcome_tag);
   }
 }
 
@@ -210,7 +183,8 @@ RunReport run_experiments_mpi(std::span<const ExperimentGroup> groups,
                                options.threads));
   }
   std::optional<Prepared> prepared = prepare_together(groups, directory, mpi);
-  if (!prepared) return {};  // rank 0 reports which rank failed
+  if (!prepared) return {};                      // rank 0 reports which rank failed
+  const double setup_seconds = watch.seconds();  // the slowest rank's: all wait for it
   if (mpi.rank() != 0) {
     run_worker(groups, prepared->twins, mpi.communicator());
     return {};
@@ -237,6 +211,7 @@ RunReport run_experiments_mpi(std::span<const ExperimentGroup> groups,
   }
   RunReport report = schedule->conclude();
   report.seconds = watch.seconds();
+  report.setup_seconds = setup_seconds;
   return report;
 }
 

@@ -58,10 +58,11 @@ void require_twin_has_assemblies(const ExperimentConfig& config, const CaseTwin&
   }
 }
 
-std::vector<CaseTwin> make_study_twins(std::span<const ExperimentGroup> groups) {
+std::vector<CaseTwin> make_study_twins(std::span<const ExperimentGroup> groups,
+                                       const ExternalTwinBackendFactory& backend) {
   (void)require_study_fits(groups);
   // u0(x), z*(x) once per group for all its episodes.
-  std::vector<CaseTwin> twins = make_case_twins(groups);
+  std::vector<CaseTwin> twins = make_case_twins(groups, backend);
   for (std::size_t g = 0; g < groups.size(); ++g) {
     require_twin_has_assemblies(groups[g].config, twins[g]);
   }
@@ -69,10 +70,11 @@ std::vector<CaseTwin> make_study_twins(std::span<const ExperimentGroup> groups) 
 }
 
 RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& store,
-                          const RunOptions& options) {
+                          const RunOptions& options, const ExternalTwinBackendFactory& backend) {
   require_valid("RunOptions", options);
   const Stopwatch watch;
-  const std::vector<CaseTwin> twins = make_study_twins(groups);
+  const std::vector<CaseTwin> twins = make_study_twins(groups, backend);
+  const double setup_seconds = watch.seconds();
   StudySchedule schedule(groups, twins, store, options.shard, options.progress);
 
   const Index hardware = static_cast<Index>(std::thread::hardware_concurrency());
@@ -98,6 +100,7 @@ RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& 
   }
   RunReport report = schedule.conclude();
   report.seconds = watch.seconds();
+  report.setup_seconds = setup_seconds;
   return report;
 }
 

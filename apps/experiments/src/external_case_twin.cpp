@@ -18,9 +18,8 @@
 #include "twincal/core/validate.hpp"
 
 namespace twincal {
-namespace {
 
-ExternalTwinPoolOptions pool_options(const ExternalTwinSettings& settings) {
+ExternalTwinPoolOptions external_twin_pool_options(const ExternalTwinSettings& settings) {
   require_valid("external_twin", settings);
   ExternalTwinPoolOptions options;
   options.twin.command = settings.command;
@@ -35,6 +34,19 @@ ExternalTwinPoolOptions pool_options(const ExternalTwinSettings& settings) {
   return options;
 }
 
+namespace {
+
+std::unique_ptr<ExternalTwinBackend> make_backend(const ExternalTwinSettings& settings,
+                                                  const ExternalTwinBackendFactory& factory) {
+  if (!factory) return std::make_unique<ExternalTwinPool>(external_twin_pool_options(settings));
+  require_valid("external_twin", settings);
+  std::unique_ptr<ExternalTwinBackend> backend = factory(settings);
+  if (!backend) {
+    throw InvalidArgumentError("backend", "backend: the factory made none; rule: it must make one");
+  }
+  return backend;
+}
+
 }  // namespace
 
 nlohmann::json ExternalCaseTwin::assembly_json(const AssemblyId& assembly) const {
@@ -45,8 +57,9 @@ nlohmann::json ExternalCaseTwin::assembly_json(const AssemblyId& assembly) const
   return {{"upper", assembly.upper}, {"lower", assembly.lower}};
 }
 
-ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings)
-    : pool_(pool_options(settings)),
+ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings,
+                                   const ExternalTwinBackendFactory& backend)
+    : backend_(make_backend(settings, backend)),
       lower_parts_(settings.lower_parts),
       global_evaluations_(settings.optimum_global_evaluations),
       local_evaluations_(settings.optimum_local_evaluations),
@@ -86,7 +99,7 @@ void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Sta
   const Index count = std::ssize(positions);
   if (count == 0) return;
   // Worker w searches positions w, w + T, …: one request in flight per worker.
-  const Index threads = std::min(pool_.workers(), count);
+  const Index threads = std::min(backend_->workers(), count);
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(threads));
   std::vector<std::uint64_t> evaluations(static_cast<std::size_t>(threads), 0);
   const auto search_share = [&](Index w) {
@@ -121,7 +134,7 @@ std::uint64_t ExternalCaseTwin::search(Index worker, const nlohmann::json& assem
   NloptOptimizerOptions budgets;
   budgets.global_evaluations = static_cast<std::uint64_t>(global_evaluations);
   budgets.local_evaluations = static_cast<std::uint64_t>(local_evaluations);
-  const ExternalTwin& twin = pool_.worker(worker);
+  const ExternalTwinBackend& twin = *backend_;
   // A control the program cannot evaluate (it answers null: a solver that did not converge)
   // counts, for the search only, as worse than anything seen: 2 × the largest quality so far
   // + 1 mm. The optimum is the best control the program did evaluate.
@@ -130,7 +143,8 @@ std::uint64_t ExternalCaseTwin::search(Index worker, const nlohmann::json& assem
   VectorX best_control = start;
   std::uint64_t unevaluable = 0;
   const Objective objective = [&](const Eigen::Ref<const VectorX>& u) {
-    const double q = twin.quality(assembly, u);
+    double q = 0.0;
+    twin.worker_quality_batch(worker, assembly, u, Eigen::Map<VectorX>(&q, 1));
     if (!std::isfinite(q)) {
       ++unevaluable;
       return 2.0 * largest + 1.0;

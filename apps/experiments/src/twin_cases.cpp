@@ -108,17 +108,17 @@ AnyTwin contact_twin(const ExperimentConfig& config) {
 }  // namespace
 
 // The program's twin; its first three locators are A, B, C.
-AnyTwin external_twin(const ExperimentConfig& config) {
+AnyTwin external_twin(const ExperimentConfig& config, const ExternalTwinBackendFactory& backend) {
   require_valid("config", config);
-  ExternalCaseTwin twin(*config.external_twin);
+  ExternalCaseTwin twin(*config.external_twin, backend);
   std::vector<AssemblyId> assemblies = twin.assemblies();
   std::vector<Index> significant = first_locators(twin.control_dimension());
   return {std::move(twin), std::move(assemblies), std::move(significant)};
 }
 
-AnyTwin make_twin(const ExperimentConfig& config) {
+AnyTwin make_twin(const ExperimentConfig& config, const ExternalTwinBackendFactory& backend) {
   if (config.twin_case == TwinCase::analytic) return analytic_twin(config);
-  if (config.twin_case == TwinCase::external) return external_twin(config);
+  if (config.twin_case == TwinCase::external) return external_twin(config, backend);
   if (config.twin_case == TwinCase::body_contact || config.twin_case == TwinCase::door_contact) {
     return contact_twin(config);
   }
@@ -131,7 +131,8 @@ AnyTwin make_twin(const ExperimentConfig& config) {
           std::vector<Index>(significant.begin(), significant.end())};
 }
 
-std::optional<AnyTwin> make_plant(const ExperimentConfig& config) {
+std::optional<AnyTwin> make_plant(const ExperimentConfig& config,
+                                  const ExternalTwinBackendFactory& backend) {
   require_valid("config", config);
   ExperimentConfig plant = config;
   plant.plant_case.reset();
@@ -140,16 +141,16 @@ std::optional<AnyTwin> make_plant(const ExperimentConfig& config) {
   plant.plant_external_twin.reset();
   if (config.plant_external_twin) {
     plant.external_twin = *config.plant_external_twin;
-    return make_twin(plant);
+    return make_twin(plant, backend);
   }
   if (config.plant_case) {
     plant.twin_case = *config.plant_case;
-    return make_twin(plant);
+    return make_twin(plant, backend);
   }
   if (config.plant_nonlinearity) {
     plant.nonlinearity = *config.plant_nonlinearity;
     plant.strength = config.plant_strength.value_or(config.strength);
-    return make_twin(plant);
+    return make_twin(plant, backend);
   }
   return std::nullopt;
 }
@@ -216,7 +217,8 @@ CaseTwin make_case_twin(const ExperimentConfig& config) {
   return {std::move(twin), std::move(locators), make_plant(config)};
 }
 
-std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups) {
+std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups,
+                                      const ExternalTwinBackendFactory& backend) {
   // Twins (and plants) are built once per distinct setting: a searched optimum or an external
   // twin's pool is costly.
   std::map<std::string, AnyTwin> full_twins;
@@ -251,9 +253,11 @@ std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups) {
                                       ? nlohmann::json(*config.plant_external_twin)
                                       : nlohmann::json(nullptr);
     auto full = full_twins.find(key);
-    if (full == full_twins.end()) full = full_twins.emplace(key, make_twin(config)).first;
+    if (full == full_twins.end()) full = full_twins.emplace(key, make_twin(config, backend)).first;
     auto plant = plants.find(plant_key.dump());
-    if (plant == plants.end()) plant = plants.emplace(plant_key.dump(), make_plant(config)).first;
+    if (plant == plants.end()) {
+      plant = plants.emplace(plant_key.dump(), make_plant(config, backend)).first;
+    }
     twins.emplace_back(full->second, resolve_locators(full->second, config.locators),
                        plant->second);
   }

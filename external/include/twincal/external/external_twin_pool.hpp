@@ -16,7 +16,7 @@
 /// thrown, so a failure is reported the same way whatever the timing.
 ///
 /// Thread-safe: concurrent batches share the workers, each worker serving one request at a
-/// time.
+/// time. It is the ExternalTwinBackend of a twin run on this machine.
 
 #include <atomic>
 #include <cstdint>
@@ -31,6 +31,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/external/external_twin.hpp"
+#include "twincal/external/external_twin_backend.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -51,7 +52,7 @@ struct ExternalTwinPoolOptions {
   }
 };
 
-class ExternalTwinPool {
+class ExternalTwinPool final : public ExternalTwinBackend {
  public:
   using Assembly = nlohmann::json;
 
@@ -63,19 +64,19 @@ class ExternalTwinPool {
   ExternalTwinPool& operator=(const ExternalTwinPool&) = delete;
   ExternalTwinPool(ExternalTwinPool&&) noexcept = default;
   ExternalTwinPool& operator=(ExternalTwinPool&&) noexcept = default;
-  ~ExternalTwinPool() = default;  // each worker closes its child's input, then kills it
+  ~ExternalTwinPool() override = default;  // each worker closes its child's input, then kills it
 
-  [[nodiscard]] Index workers() const noexcept { return std::ssize(workers_); }
-  [[nodiscard]] Index control_dimension() const noexcept {
+  [[nodiscard]] Index workers() const noexcept override { return std::ssize(workers_); }
+  [[nodiscard]] Index control_dimension() const noexcept override {
     return workers_.front()->control_dimension();
   }
-  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
+  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept override {
     return workers_.front()->locator_names();
   }
-  [[nodiscard]] const VectorX& lower_bounds() const noexcept {
+  [[nodiscard]] const VectorX& lower_bounds() const noexcept override {
     return workers_.front()->lower_bounds();
   }
-  [[nodiscard]] const VectorX& upper_bounds() const noexcept {
+  [[nodiscard]] const VectorX& upper_bounds() const noexcept override {
     return workers_.front()->upper_bounds();
   }
   [[nodiscard]] const ExternalTwinPoolOptions& options() const noexcept { return options_; }
@@ -98,7 +99,13 @@ class ExternalTwinPool {
   /// @throws DimensionMismatchError, NonFiniteError (controls) before anything is sent;
   ///         ExternalTwinError when a chunk fails (after its retry), `out` then unspecified.
   void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
-                     Eigen::Ref<VectorX> out) const;
+                     Eigen::Ref<VectorX> out) const override;
+  /// Every column of `controls` as one request to worker `worker` (no retry: worker(w)'s path).
+  void worker_quality_batch(Index worker, const Assembly& assembly,
+                            const Eigen::Ref<const MatrixX>& controls,
+                            Eigen::Ref<VectorX> out) const override {
+    this->worker(worker).quality_batch(assembly, controls, out);
+  }
 
  private:
   // Evaluates columns [begin, begin + count) on worker `w`, retrying once.

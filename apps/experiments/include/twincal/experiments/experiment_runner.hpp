@@ -17,6 +17,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/episode_runner.hpp"
 #include "twincal/experiments/experiment_group.hpp"
+#include "twincal/experiments/external_case_twin.hpp"
 #include "twincal/experiments/result_store.hpp"
 #include "twincal/experiments/run_options.hpp"
 #include "twincal/experiments/run_report.hpp"
@@ -41,7 +42,9 @@ void require_twin_has_assemblies(const ExperimentConfig& config, const CaseTwin&
 /// What every way of running a study builds first: require_study_fits, then make_case_twins
 /// (the u0(x), z*(x) of each group's assemblies), then require_twin_has_assemblies per group.
 /// @throws as those.
-[[nodiscard]] std::vector<CaseTwin> make_study_twins(std::span<const ExperimentGroup> groups);
+/// An external twin runs on what `backend` makes (by default its own ExternalTwinPool).
+[[nodiscard]] std::vector<CaseTwin> make_study_twins(
+    std::span<const ExperimentGroup> groups, const ExternalTwinBackendFactory& backend = {});
 
 /// Runs the missing episodes of `groups` into `store` and rewrites its summary.json.
 ///
@@ -54,7 +57,10 @@ void require_twin_has_assemblies(const ExperimentConfig& config, const CaseTwin&
 /// @throws InvalidArgumentError (a config, a group that conflicts with the stored one, two
 ///         groups of one name), Error (files); the first other error of a worker after the
 ///         others have stopped (episodes finished before it stay stored); TwinFailureError.
+/// External twins run on what `backend` makes (by default each its own ExternalTwinPool; an
+/// MpiTwinPool puts them on other ranks of an MPI job, distributed/mpi_twin_pool.hpp).
 RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& store,
-                          const RunOptions& options = {});
+                          const RunOptions& options = {},
+                          const ExternalTwinBackendFactory& backend = {});
 
 }  // namespace twincal

@@ -13,7 +13,9 @@
 /// (scanned_assembly.hpp); the program then receives {"parts": <the parts>} as the assembly.
 
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,34 +26,50 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/external_twin_settings.hpp"
 #include "twincal/experiments/scanned_assembly.hpp"
+#include "twincal/external/external_twin_backend.hpp"
 #include "twincal/external/external_twin_pool.hpp"
 #include "twincal/models/assembly_id.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
 
+/// The ExternalTwinPool options of `settings`: its command, locators, bounds, time limits and
+/// workers. @throws InvalidArgumentError for invalid settings.
+[[nodiscard]] ExternalTwinPoolOptions external_twin_pool_options(
+    const ExternalTwinSettings& settings);
+
+/// Makes where an external twin's evaluations run, from its settings (MpiTwinPool,
+/// apps/distributed, is one). An empty factory means an ExternalTwinPool of settings.workers
+/// processes on this machine.
+using ExternalTwinBackendFactory =
+    std::function<std::unique_ptr<ExternalTwinBackend>(const ExternalTwinSettings&)>;
+
 class ExternalCaseTwin {
  public:
   using Assembly = AssemblyId;
 
-  /// Starts the workers and searches every assembly's optimum.
+  /// Starts the workers (the backend that `backend` makes, by default an ExternalTwinPool) and
+  /// searches every assembly's optimum.
   /// @throws InvalidArgumentError for invalid settings; ExternalTwinError when the program fails
   ///         (after the pool's retry), naming the assembly whose search failed.
-  explicit ExternalCaseTwin(const ExternalTwinSettings& settings);
+  explicit ExternalCaseTwin(const ExternalTwinSettings& settings,
+                            const ExternalTwinBackendFactory& backend = {});
 
-  [[nodiscard]] Index control_dimension() const noexcept { return pool_.control_dimension(); }
-  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
-    return pool_.locator_names();
+  [[nodiscard]] Index control_dimension() const { return backend_->control_dimension(); }
+  [[nodiscard]] const std::vector<std::string>& locator_names() const {
+    return backend_->locator_names();
   }
-  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return pool_.lower_bounds(); }
-  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return pool_.upper_bounds(); }
+  [[nodiscard]] const VectorX& lower_bounds() const { return backend_->lower_bounds(); }
+  [[nodiscard]] const VectorX& upper_bounds() const { return backend_->upper_bounds(); }
   [[nodiscard]] double quality(const AssemblyId& assembly,
                                const Eigen::Ref<const VectorX>& control) const {
-    return pool_.quality(assembly_json(assembly), control);
+    double q = 0.0;
+    backend_->quality_batch(assembly_json(assembly), control, Eigen::Map<VectorX>(&q, 1));
+    return q;
   }
   void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const {
-    pool_.quality_batch(assembly_json(assembly), controls, out);
+    backend_->quality_batch(assembly_json(assembly), controls, out);
   }
   /// u0(x) as searched at construction (or by add_scanned()).
   [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
@@ -73,7 +91,8 @@ class ExternalCaseTwin {
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
   /// Evaluations the optimum searches took, over all assemblies.
   [[nodiscard]] std::uint64_t search_evaluations() const noexcept { return search_evaluations_; }
-  [[nodiscard]] const ExternalTwinPool& pool() const noexcept { return pool_; }
+  /// Where the evaluations run (an ExternalTwinPool unless another backend was made).
+  [[nodiscard]] const ExternalTwinBackend& backend() const noexcept { return *backend_; }
 
   /// What the program receives as the assembly: {"upper": i, "lower": j}, or {"parts": …} for
   /// a scanned one. @throws InvalidArgumentError for an unknown assembly.
@@ -94,7 +113,7 @@ class ExternalCaseTwin {
   void search_all(const std::vector<Index>& positions, const Start& start, Index global_evaluations,
                   Index local_evaluations);
 
-  ExternalTwinPool pool_;
+  std::unique_ptr<ExternalTwinBackend> backend_;
   Index lower_parts_;
   Index global_evaluations_;
   Index local_evaluations_;

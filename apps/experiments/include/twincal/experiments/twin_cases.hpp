@@ -16,16 +16,20 @@
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_group.hpp"
+#include "twincal/experiments/external_case_twin.hpp"
 
 namespace twincal {
 
-/// The full twin of `config.twin_case` with `config.twin_seed` (and `analytic_dimension`).
-[[nodiscard]] AnyTwin make_twin(const ExperimentConfig& config);
+/// The full twin of `config.twin_case` with `config.twin_seed` (and `analytic_dimension`); an
+/// external twin runs on what `backend` makes (by default its own ExternalTwinPool).
+[[nodiscard]] AnyTwin make_twin(const ExperimentConfig& config,
+                                const ExternalTwinBackendFactory& backend = {});
 
 /// The plant of `config` when it is not the twin (plant_case, or plant_nonlinearity with its
 /// strength): the twin of that setting; std::nullopt when the plant is the twin.
 /// @throws InvalidArgumentError for an invalid config.
-[[nodiscard]] std::optional<AnyTwin> make_plant(const ExperimentConfig& config);
+[[nodiscard]] std::optional<AnyTwin> make_plant(const ExperimentConfig& config,
+                                                const ExternalTwinBackendFactory& backend = {});
 
 /// Locator indices of a locator-set spelling (see ExperimentConfig::locators): "A", "B", "C",
 /// "ABC" (the twin's significant locators), "all", or names / 0-based indices joined by commas.
@@ -46,6 +50,7 @@ namespace twincal {
 /// make_case_twin for every group, building one full twin per (case, twin seed, analytic
 /// dimension) and sharing it among the groups that restrict it: an FEM twin costs more to build
 /// than a whole group's episodes.
-[[nodiscard]] std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups);
+[[nodiscard]] std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups,
+                                                    const ExternalTwinBackendFactory& backend = {});
 
 }  // namespace twincal
