@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "results_files.hpp"
 #include "twincal/core/error.hpp"
 
 namespace twincal {
@@ -35,14 +36,7 @@ ExperimentGroup runner_group(Index runs) {
 
 // A results file without its wall-time fields.
 std::string runner_timeless(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::regex csv_seconds(",[^,\n]*\n");
-  const std::regex json_seconds("\"seconds_per_assembly\":[^,]*,");
-  const std::string s =
-      path.extension() == ".csv" ? std::regex_replace(text.str(), csv_seconds, "\n") : text.str();
-  return std::regex_replace(s, json_seconds, "");
+  return test_support::timeless_results_file(path);
 }
 
 // A group on tests/data/batch_crashing_twin.py (its u0 search works, every batch crashes it).

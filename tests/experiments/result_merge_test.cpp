@@ -10,6 +10,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "results_files.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
 #include "twincal/experiments/result_store.hpp"
@@ -46,22 +47,12 @@ void run_into(const fs::path& directory, const std::vector<ExperimentGroup>& gro
   (void)run_experiments(groups, store, {.threads = 2, .progress = false, .shard = shard});
 }
 
-// A results file without its wall-time fields (the CSV's last column, seconds_per_assembly).
-std::string timeless(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::regex csv_seconds(",[^,\n]*\n");
-  const std::regex json_seconds("\"seconds_per_assembly\":[^,]*,");
-  const std::string s =
-      path.extension() == ".csv" ? std::regex_replace(text.str(), csv_seconds, "\n") : text.str();
-  return std::regex_replace(s, json_seconds, "");
-}
-
 void expect_same_results(const fs::path& expected, const fs::path& actual) {
   for (const char* name :
        {ResultStore::csv_name, ResultStore::episodes_name, ResultStore::summary_name}) {
-    EXPECT_EQ(timeless(expected / name), timeless(actual / name)) << name;
+    EXPECT_EQ(test_support::timeless_results_file(expected / name),
+              test_support::timeless_results_file(actual / name))
+        << name;
   }
 }
 

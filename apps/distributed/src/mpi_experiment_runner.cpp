@@ -133,18 +133,7 @@ void coordinate(std::span<const ExperimentGroup> groups, std::span<const CaseTwi
     }
     MPI_Send(message.data(), 3, MPI_INT64_T, rank, task_tag, communicator);
   };
-  std::jthread local([&] {
-    while (const std::optional<std::pair<std::size_t, EpisodeTask>> next = schedule.next()) {
-      const auto& [number, task] = *next;
-      try {
-        schedule.finish(number, run_episode_task(groups, twins, task));
-      } catch (const TwinFailureError& error) {
-        schedule.twin_failed(number, error.what());
-      } catch (...) {
-        schedule.fail(number, std::current_exception());
-      }
-    }
-  });
+  std::jthread local([&] { schedule.run_episodes(groups, twins); });
   for (int rank = 1; rank < static_cast<int>(mpi.size()); ++rank) dispatch(rank);
   while (busy > 0) {
     const MPI_Status status = wait_for_message(communicator, MPI_ANY_SOURCE, outcome_tag);

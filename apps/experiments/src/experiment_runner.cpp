@@ -81,18 +81,7 @@ RunReport run_experiments(std::span<const ExperimentGroup> groups, ResultStore& 
   const Index threads = std::max<Index>(
       1, std::min<Index>(options.threads > 0 ? options.threads : std::max<Index>(hardware, 1),
                          schedule.planned_now()));
-  const auto worker = [&] {
-    while (const std::optional<std::pair<std::size_t, EpisodeTask>> next = schedule.next()) {
-      const auto& [number, task] = *next;
-      try {
-        schedule.finish(number, run_episode_task(groups, twins, task));
-      } catch (const TwinFailureError& error) {
-        schedule.twin_failed(number, error.what());
-      } catch (...) {
-        schedule.fail(number, std::current_exception());
-      }
-    }
-  };
+  const auto worker = [&] { schedule.run_episodes(groups, twins); };
   {
     std::vector<std::jthread> pool;
     for (Index k = 1; k < threads; ++k) pool.emplace_back(worker);

@@ -101,6 +101,20 @@ void StudySchedule::settle(std::size_t number, std::optional<EpisodeResult> resu
   std::fflush(stderr);
 }
 
+void StudySchedule::run_episodes(std::span<const ExperimentGroup> groups,
+                                 std::span<const CaseTwin> twins) {
+  while (const std::optional<std::pair<std::size_t, EpisodeTask>> handed = next()) {
+    const auto& [number, task] = *handed;
+    try {
+      finish(number, run_episode_task(groups, twins, task));
+    } catch (const TwinFailureError& error) {
+      twin_failed(number, error.what());
+    } catch (...) {
+      fail(number, std::current_exception());
+    }
+  }
+}
+
 RunReport StudySchedule::conclude() {
   const std::lock_guard lock(mutex_);
   if (progress_ && !tasks_.empty()) fmt::print(stderr, "\n");

@@ -69,6 +69,10 @@ class StudySchedule {
   /// conclude()) and nothing more is handed out; episodes still running may finish.
   void fail(std::size_t number, std::exception_ptr error);
 
+  /// A worker's loop: runs the episodes next() hands out on `twins` until none is left, each
+  /// ending in finish(), twin_failed() (a TwinFailureError) or fail() (any other error).
+  void run_episodes(std::span<const ExperimentGroup> groups, std::span<const CaseTwin> twins);
+
   /// After the last episode came back: rewrites summary.json, then rethrows the first error
   /// passed to fail(), or throws one TwinFailureError listing per group how many episodes
   /// failed and were not started; otherwise returns what was done (seconds: 0, which the
