@@ -338,7 +338,7 @@ TEST(ServeSession, PredictsWithTheTwinAndReportsStateCheckpointAndShutdown) {
 
 // A cell that sends the scanned parts of each assembly: the external case's minimal twin
 // (examples/external_twin) computes its quality from them; u0 is searched per new assembly.
-ServeOptions scanned_parts_options() {
+ServeOptions scanned_parts_options(std::int64_t snapshot_interval = 1000) {
   ServeOptions options;
   options.config.twin_case = TwinCase::external;
   ExternalTwinSettings twin;
@@ -354,6 +354,7 @@ ServeOptions scanned_parts_options() {
   options.config.locators = "all";
   options.controller = ControllerSpec::parse("active");
   options.durability = Durability::normal;
+  options.snapshot_interval = snapshot_interval;
   return options;
 }
 
@@ -387,8 +388,11 @@ std::vector<json> drive_scanned(ServeSession& session, int from, int to) {
 }
 
 TEST(ServeSession, TakesScannedPartsSearchesTheirOptimumAndResumesFromThem) {
+  // Snapshots every 3 observations: they hold the active controller's kept assemblies, scanned
+  // ids {k, −1} among them, and the resume restores one (before 2026-11-26 it refused them).
+  const ServeOptions options = scanned_parts_options(3);
   const TemporaryDatabase whole_db;
-  ServeSession whole = ServeSession::start(scanned_parts_options(), whole_db.get());
+  ServeSession whole = ServeSession::start(options, whole_db.get());
   const std::vector<json> expected = drive_scanned(whole, 0, 10);
   const json expected_estimate = whole.state()["estimate"];
   // The twin's optimum of the scanned parts is the minimal twin's closed form: u0_i =
@@ -412,7 +416,7 @@ TEST(ServeSession, TakesScannedPartsSearchesTheirOptimumAndResumesFromThem) {
   const TemporaryDatabase split_db;
   std::vector<json> controls;
   {
-    ServeSession killed = ServeSession::start(scanned_parts_options(), split_db.get());
+    ServeSession killed = ServeSession::start(options, split_db.get());
     controls = drive_scanned(killed, 0, 6);
   }
   ServeSession resumed = ServeSession::resume(split_db.get(), Durability::normal);

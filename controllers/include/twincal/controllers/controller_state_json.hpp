@@ -404,11 +404,13 @@ template <typename Preview>
   return nlohmann::json::array({assembly.upper, assembly.lower});
 }
 
-/// The inverse of assembly_to_json (two non-negative integers).
+/// The inverse of assembly_to_json: [upper, lower], upper >= 0 and lower >= −1 (−1: the id of
+/// an assembly given by its scanned parts, AssemblyId's doc).
 inline void read_assembly(const nlohmann::json& value, std::string_view name, AssemblyId& out) {
   require_array(value, name, 2);
-  out.upper = read_integer(value[0], fmt::format("{}[0]", name), 0);
-  out.lower = read_integer(value[1], fmt::format("{}[1]", name), 0);
+  const Index upper = read_integer(value[0], fmt::format("{}[0]", name), 0);
+  const Index lower = read_integer(value[1], fmt::format("{}[1]", name), -1);
+  out = {upper, lower};
 }
 
 /// Any other assembly type that nlohmann-json converts (e.g. an external twin's JSON assembly).

@@ -13,9 +13,13 @@
 
 namespace twincal {
 
+/// A twin's own assemblies are pairs of part indices >= 0. A twin that also takes assemblies
+/// given by their scanned parts (the experiments' external case) numbers those k = 0, 1, … and
+/// gives them the id {k, −1} (experiments/scanned_assembly.hpp), so saved controller states
+/// accept lower = −1 too.
 struct AssemblyId {
   Index upper = 0;  ///< index of the upper part
-  Index lower = 0;  ///< index of the lower part
+  Index lower = 0;  ///< index of the lower part (−1: a scanned assembly's number is `upper`)
 
   friend constexpr auto operator<=>(const AssemblyId&, const AssemblyId&) = default;
 };
