@@ -81,6 +81,9 @@ void bind_samplers(py::module_& module) {
           "Points generated (or skipped) so far.")
       .def_property_readonly(
           "seed", [](const Sobol& s) { return s.options().seed; }, "Seed of the scrambling.")
+      .def_property_readonly(
+          "bits", [](const Sobol& s) { return s.options().bits; },
+          "Bits per coordinate: the sequence has 2^bits points.")
       .def("random", &draw<Sobol>, py::arg("n") = 1,
            "The next n points, an n x d array in [0, 1). Warns (UserWarning) unless n is a "
            "power of two that keeps the sequence's balance, as SciPy does.")

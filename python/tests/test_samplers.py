@@ -65,10 +65,46 @@ def test_scrambled_halton_is_seeded():
     assert np.all((a >= 0) & (a < 1))
 
 
+def test_zero_dimensions_give_empty_samples_as_in_scipy():
+    for engine in (twincal.Sobol(0), twincal.Halton(0, scramble=False)):
+        assert engine.random(4).shape == (4, 0)
+        assert engine.num_generated == 4
+        assert engine.reset().num_generated == 0
+
+
+def test_seeds_are_recorded_and_generators_accepted():
+    a = twincal.Sobol(3, seed=np.random.default_rng(1))
+    b = twincal.Sobol(3, seed=a.scramble_seed)
+    np.testing.assert_array_equal(a.random(16), b.random(16))
+    assert twincal.Sobol(3, seed=11).scramble_seed == 11
+    fresh = twincal.Halton(2)  # seed None: fresh entropy, as in SciPy, and recorded
+    np.testing.assert_array_equal(fresh.random(8),
+                                  twincal.Halton(2, seed=fresh.scramble_seed).random(8))
+    with pytest.raises(twincal.InvalidArgumentError, match="seed"):
+        twincal.Sobol(2, seed=-1)
+
+
+def test_integers_workers_and_optimization_follow_scipy():
+    scipy_qmc = pytest.importorskip("scipy.stats.qmc")
+    engine = twincal.Halton(2, seed=3)
+    assert isinstance(engine, scipy_qmc.QMCEngine)
+    sample = engine.integers(10, n=8)
+    engine.reset()
+    np.testing.assert_array_equal(engine.integers(10, n=8, workers=4), sample)
+    assert sample.dtype == np.int64 and sample.min() >= 0 and sample.max() < 10
+    with pytest.raises(ValueError, match="workers"):
+        engine.random(2, workers=0)
+    plain = twincal.Sobol(2, scramble=False).random(64)
+    optimized = twincal.Sobol(2, scramble=False, optimization="random-cd", seed=1).random(64)
+    assert scipy_qmc.discrepancy(optimized) < scipy_qmc.discrepancy(plain)
+    normal = scipy_qmc.MultivariateNormalQMC(mean=[0.0, 1.0], engine=twincal.Sobol(2, seed=7))
+    assert normal.random(8).shape == (8, 2)
+
+
 def test_invalid_arguments_raise_value_errors():
-    with pytest.raises(ValueError, match="dimension"):
-        twincal.Sobol(0)
-    with pytest.raises(twincal.InvalidArgumentError, match="dimension"):
+    with pytest.raises(ValueError, match="non-negative"):
+        twincal.Sobol(-1)
+    with pytest.raises(twincal.InvalidArgumentError, match="dimensionality"):
         twincal.Sobol(21202)
     with pytest.raises(twincal.InvalidArgumentError, match="scramble"):
         twincal.Sobol(2, scramble="digital")
@@ -76,3 +112,27 @@ def test_invalid_arguments_raise_value_errors():
         twincal.Halton(2).random(-1)
     with pytest.raises(ValueError, match="m"):
         twincal.Sobol(2).random_base2(64)
+
+
+def test_without_scipy_the_engines_keep_their_interface_but_optimization():
+    import subprocess
+    import sys
+    import textwrap
+
+    script = textwrap.dedent("""
+        import sys
+        sys.modules["scipy"] = None  # `import scipy.stats` now raises ImportError
+        import numpy as np
+        import twincal
+        engine = twincal.Sobol(2, scramble=False)
+        assert engine.random_base2(2).shape == (4, 2) and engine.num_generated == 4
+        assert engine.integers(5, n=4).shape == (4, 2)
+        assert twincal.Halton(0).random(3).shape == (3, 0)
+        try:
+            twincal.Halton(2, optimization="lloyd")
+        except twincal.InvalidArgumentError as error:
+            assert "needs SciPy" in str(error)
+        else:
+            raise AssertionError("optimization without SciPy was accepted")
+    """)
+    subprocess.run([sys.executable, "-c", script], check=True)

@@ -26,7 +26,6 @@ from ._twincal import (
     DimensionMismatchError,
     Error,
     FifthDegreeCubaturePoints,
-    Halton,
     IndividualizedController,
     InvalidArgumentError,
     JulierSigmaPoints,
@@ -37,11 +36,11 @@ from ._twincal import (
     PerComponentController,
     SigmaPointKalmanFilter,
     SimplexSigmaPoints,
-    Sobol,
     SphericalRadialSigmaPoints,
     SquareRootKalmanFilter,
     Twin,
 )
+from .qmc import Halton, Sobol
 
 
 def run_experiment(config, out=None, threads=0):
