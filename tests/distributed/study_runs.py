@@ -150,6 +150,24 @@ def kill_and_resume(twincal, work, mpiexec, out, kill):
     compare(work / "slow-single", out, any_order=True)
 
 
+def session_processes(session, program):
+    """The processes of session `session` whose command line mentions `program` (from /proc:
+    a fresh machine may have no pgrep)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            # The session id is the sixth field of stat, after the parenthesized command name.
+            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            command = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode()
+        except OSError:
+            continue  # the process ended meanwhile
+        if int(fields[3]) == session and program in command:
+            found.append(int(entry.name))
+    return found
+
+
 def mpi_kill(twincal, work, mpiexec):
     run([twincal] + SLOW + ["--out", work / "slow-single"])
 
@@ -160,9 +178,7 @@ def mpi_kill(twincal, work, mpiexec):
         # The ranks are the processes in the launcher's session running twincal; rank 0 opened
         # the results, so kill one that did not: any but the lowest pid is not rank 0 for
         # certain, so kill the newest.
-        pids = subprocess.run(["pgrep", "-s", str(job.pid), "-f", twincal],
-                              capture_output=True, text=True).stdout.split()
-        ranks = sorted(int(p) for p in pids if int(p) != job.pid)
+        ranks = sorted(pid for pid in session_processes(job.pid, twincal) if pid != job.pid)
         if len(ranks) < 2:
             sys.exit(f"found ranks {ranks} in the job's session")
         os.kill(ranks[-1], signal.SIGKILL)

@@ -1,0 +1,50 @@
+#!/bin/bash
+# The paper's Table 1 in seconds, on the CalculiX twin (docs/benchmarks.md, "Table 1 analog on
+# CalculiX"): calls and wall time per assembly of baseline, default, w = 1 and active at 1 and 3
+# locators, with 1 and 8 twin worker processes, u0 included.
+#
+# usage: benchmarks/calculix/table1_analog.sh [OUT_DIR] [WORKERS...]   (from the repository root,
+#        after a build; default OUT_DIR /tmp/twincal_table1, WORKERS 1 8)
+#
+# The lap joint with contact and large displacements (the program's default), 2 x 3 parts (6
+# assemblies), the budgeted u0 search of 2 (d + 1)^2 = 98 calls per assembly over the six
+# locators, one run of 5 assemblies per controller, episodes one at a time (--threads 1) so
+# that a controller's wall time per assembly is its own. The u0 searches of the 6 assemblies
+# (one per worker at a time) are the set-up the output reports.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+out="${1:-/tmp/twincal_table1}"
+shift || true
+workers=("$@")
+[ ${#workers[@]} -gt 0 ] || workers=(1 8)
+mkdir -p "$out"
+for locators in U3 U1,U3,L3; do
+  for w in "${workers[@]}"; do
+    name="locators-${locators//,/}-workers-$w"
+    cat > "$out/$name.json" <<JSON
+{
+  "name": "$name",
+  "case": "external",
+  "external_twin": {
+    "command": ["$root/build/calculix/twincal_calculix_twin", "--layout", "lap-joint",
+                "--upper-parts", "2", "--lower-parts", "3"],
+    "locators": ["U1", "U2", "U3", "L1", "L2", "L3"],
+    "lower_bounds": [-1.0, -1.0, -1.0, -1.0, -1.0, -1.0],
+    "upper_bounds": [1.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+    "upper_parts": 2,
+    "lower_parts": 3,
+    "workers": $w,
+    "timeout_ms": 600000,
+    "optimum_budget": 98
+  },
+  "locators": "$locators",
+  "controllers": ["baseline", "default", "w=1", "active"],
+  "runs": 1,
+  "assemblies": 5
+}
+JSON
+    echo "== $name"
+    "$root/build/apps/twincal/twincal" run --config "$out/$name.json" --out "$out/$name" \
+      --threads 1 --quiet
+  done
+done
