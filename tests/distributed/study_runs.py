@@ -35,9 +35,11 @@ HERE = Path(__file__).resolve().parent
 RUN = ["run", "--case", "analytic", "--runs", "3", "--assemblies", "20",
        "--controllers", "baseline,default,w=1,active", "--quiet"]
 PAPER = ["paper", "--case", "body", "--runs", "2", "--assemblies", "30", "--quiet"]
-# ~0.2 s per episode, so that a kill lands mid-study.
-SLOW = ["run", "--case", "analytic", "--dimension", "10", "--locators", "all", "--runs", "16",
-        "--controllers", "baseline,w=1", "--quiet"]
+# ~0.9 s of CPU per episode (w = 1 at d = 12), so that a kill lands mid-study on any machine:
+# it comes after at most 6 of the 16 episodes are stored, with seconds of work left.
+SLOW = ["run", "--case", "analytic", "--dimension", "12", "--locators", "all", "--runs", "16",
+        "--controllers", "w=1", "--quiet"]
+SLOW_EPISODES = 16
 
 
 ROOT = HERE.parents[1]
@@ -130,7 +132,7 @@ def kill_and_resume(twincal, work, mpiexec, out, kill):
     job = subprocess.Popen(launcher(mpiexec, 3) + [twincal] + SLOW + ["--out", out], env=env,
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                            start_new_session=True)
-    at = random.Random(2023).randint(2, 12)
+    at = random.Random(2023).randint(2, 6)
     deadline = time.monotonic() + 120
     while stored(out) < at and job.poll() is None and time.monotonic() < deadline:
         time.sleep(0.02)
@@ -143,7 +145,7 @@ def kill_and_resume(twincal, work, mpiexec, out, kill):
     except ProcessLookupError:
         pass
     kept = stored(out)
-    planned = 32
+    planned = SLOW_EPISODES
     assert kept < planned, f"{out}: all {kept} episodes were stored before the kill"
     result = run(launcher(mpiexec, 2) + [twincal] + SLOW + ["--out", out], env=env)
     assert f"{planned - kept} run now, {kept} already in" in result, result
