@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -33,24 +34,17 @@ using mpi_messages::wait_for_message;
 
 // Rank 0 → worker: an EpisodeTask as three int64 (group −1: stop).
 constexpr int task_tag = 1;
-// Worker → rank 0: an outcome (its first byte an OutcomeKind, then the payload).
-constexpr int outcome_tag = 2;
+// Worker → rank 0: an outcome, its kind the tag — the episode's result (its CBOR bytes), a twin
+// failure or another error (the message's text).
+constexpr int result_tag = 2;
+constexpr int twin_failure_tag = 4;
+constexpr int error_tag = 5;
 // A rank that could not build its twins → rank 0: its error message.
 constexpr int start_failure_tag = 3;
 
-enum class OutcomeKind : std::uint8_t { result = 0, twin_failure = 1, error = 2 };
-
 using TaskMessage = std::array<std::int64_t, 3>;
 
-std::vector<std::uint8_t> outcome(OutcomeKind kind, std::string_view text) {
-  std::vector<std::uint8_t> bytes{static_cast<std::uint8_t>(kind)};
-  bytes.insert(bytes.end(), text.begin(), text.end());
-  return bytes;
-}
-
-std::string outcome_text(const std::vector<std::uint8_t>& bytes) {
-  return {bytes.begin() + 1, bytes.end()};
-}
+std::vector<std::uint8_t> text_bytes(std::string_view text) { return {text.begin(), text.end()}; }
 
 // What a rank needs to take part: the study's twins, and on rank 0 the results store.
 struct Prepared {
@@ -103,15 +97,17 @@ void run_worker(std::span<const ExperimentGroup> groups, std::span<const CaseTwi
     const EpisodeTask task{static_cast<std::size_t>(message[0]),
                            static_cast<std::size_t>(message[1]), message[2]};
     std::vector<std::uint8_t> reply;
+    int tag = result_tag;
     try {
       reply = encode_episode_result(run_episode_task(groups, twins, task));
-      reply.insert(reply.begin(), static_cast<std::uint8_t>(OutcomeKind::result));
     } catch (const TwinFailureError& error) {
-      reply = outcome(OutcomeKind::twin_failure, error.what());
+      reply = text_bytes(error.what());
+      tag = twin_failure_tag;
     } catch (const std::exception& error) {
-      reply = outcome(OutcomeKind::error, error.what());
+      reply = text_bytes(error.what());
+      tag = error_tag;
     }
-    send_bytes(communicator, reply, 0, outcome_tag);
+    send_bytes(communicator, reply, 0, tag);
   }
 }
 
@@ -136,20 +132,20 @@ void coordinate(std::span<const ExperimentGroup> groups, std::span<const CaseTwi
   std::jthread local([&] { schedule.run_episodes(groups, twins); });
   for (int rank = 1; rank < static_cast<int>(mpi.size()); ++rank) dispatch(rank);
   while (busy > 0) {
-    const MPI_Status status = wait_for_message(communicator, MPI_ANY_SOURCE, outcome_tag);
+    // Only outcomes travel to rank 0 now: the start-up messages were taken before.
+    const MPI_Status status = wait_for_message(communicator, MPI_ANY_SOURCE, MPI_ANY_TAG);
     const std::vector<std::uint8_t> bytes = receive_bytes(communicator, status);
     const int rank = status.MPI_SOURCE;
     const std::size_t number = running[static_cast<std::size_t>(rank)];
     --busy;
     try {
-      const auto kind = bytes.empty() ? OutcomeKind::error : static_cast<OutcomeKind>(bytes[0]);
-      if (kind == OutcomeKind::result) {
-        schedule.finish(number, decode_episode_result(std::span(bytes).subspan(1)));
-      } else if (kind == OutcomeKind::twin_failure) {
-        schedule.twin_failed(number, outcome_text(bytes));
+      if (status.MPI_TAG == result_tag) {
+        schedule.finish(number, decode_episode_result(bytes));
+      } else if (status.MPI_TAG == twin_failure_tag) {
+        schedule.twin_failed(number, std::string(bytes.begin(), bytes.end()));
       } else {
-        throw Error("rank", fmt::format("rank {}: {}", rank,
-                                        bytes.empty() ? "an empty reply" : outcome_text(bytes)));
+        throw Error("rank",
+                    fmt::format("rank {}: {}", rank, std::string(bytes.begin(), bytes.end())));
       }
     } catch (...) {
       schedule.fail(number, std::current_exception());
