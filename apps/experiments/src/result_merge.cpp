@@ -79,19 +79,11 @@ Shard read_shard(const fs::path& directory, std::size_t number) {
     throw file_error(directory / ResultStore::csv_name, "cannot be read (no header)");
   }
   while (std::getline(csv, line)) {
-    // The episode key: the row's first three fields (group, controller, run).
-    const std::size_t first = line.find(',');
-    const std::size_t second = first == std::string::npos ? first : line.find(',', first + 1);
-    const std::size_t third = second == std::string::npos ? second : line.find(',', second + 1);
-    if (third == std::string::npos) continue;
+    std::string group;
+    std::string controller;
     Index run = 0;
-    try {
-      run = std::stoll(line.substr(second + 1, third - second - 1));
-    } catch (const std::exception&) {
-      continue;
-    }
-    const auto episode = shard.episodes.find(
-        Key{line.substr(0, first), line.substr(first + 1, second - first - 1), run});
+    if (!csv_row_key(line, group, controller, run)) continue;
+    const auto episode = shard.episodes.find(Key{group, controller, run});
     if (episode != shard.episodes.end()) episode->second.rows += line + '\n';
   }
   return shard;

@@ -41,8 +41,15 @@ std::string joined(const Column& column) {
   return out;
 }
 
-// The episode key of a CSV row: its first three fields.
-bool row_key(const std::string& line, std::string& group, std::string& controller, Index& run) {
+std::ofstream open_append(const fs::path& path) {
+  std::ofstream out(path, std::ios::app);
+  if (!out) throw file_error(path, "cannot be opened for appending");
+  return out;
+}
+
+}  // namespace
+
+bool csv_row_key(const std::string& line, std::string& group, std::string& controller, Index& run) {
   const std::size_t first = line.find(',');
   const std::size_t second = first == std::string::npos ? first : line.find(',', first + 1);
   const std::size_t third = second == std::string::npos ? second : line.find(',', second + 1);
@@ -56,14 +63,6 @@ bool row_key(const std::string& line, std::string& group, std::string& controlle
   }
   return true;
 }
-
-std::ofstream open_append(const fs::path& path) {
-  std::ofstream out(path, std::ios::app);
-  if (!out) throw file_error(path, "cannot be opened for appending");
-  return out;
-}
-
-}  // namespace
 
 json episode_metrics_json(const EpisodeResult& result) {
   return json{{"group", result.group},
@@ -153,7 +152,7 @@ void ResultStore::reconcile_csv() {
       kept.push_back(line);
       continue;
     }
-    if (row_key(line, group, controller, run) && done_.contains(Key{group, controller, run})) {
+    if (csv_row_key(line, group, controller, run) && done_.contains(Key{group, controller, run})) {
       kept.push_back(line);
     } else {
       dropped = true;

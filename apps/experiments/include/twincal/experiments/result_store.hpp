@@ -74,6 +74,10 @@ class ResultStore {
   std::ofstream jsonl_;
 };
 
+/// The episode key of an assemblies.csv row: its first three fields (group, controller, run).
+/// False for a row that has no such key (a torn line).
+bool csv_row_key(const std::string& line, std::string& group, std::string& controller, Index& run);
+
 /// The JSON line of an episode's metrics (what episodes.jsonl and summary.json hold).
 [[nodiscard]] nlohmann::json episode_metrics_json(const EpisodeResult& result);
 
