@@ -1,16 +1,12 @@
-// Uses one header of every module through the installed package and checks a result, so a
-// missing header, target or dependency in the install fails this program.
+// Includes every header of the installed package (the top-level umbrella) and checks a result
+// of the header-only and of the compiled modules, so a missing header, target or dependency in
+// the install, or a header that does not compile beside the others, fails this program.
 #include <cmath>
 #include <cstdio>
 
 #include <fmt/format.h>
 
-#include "twincal/controllers/trace_loss.hpp"
-#include "twincal/core/core.hpp"
-#include "twincal/filters/sigma_points.hpp"
-#include "twincal/models/random_walk.hpp"
-#include "twincal/samplers/sampler.hpp"
-#include "twincal/samplers/sobol.hpp"
+#include "twincal/twincal.hpp"
 
 int main() {
   const twincal::RandomWalk<3> walk = twincal::RandomWalk<3>::isotropic(3, 1e-3);

@@ -5,15 +5,26 @@
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/exploitation_loss.hpp"
 #include "twincal/controllers/exploration_loss.hpp"
+#include "twincal/controllers/information_probe.hpp"
 #include "twincal/controllers/log_det_loss.hpp"
 #include "twincal/controllers/max_eigenvalue_loss.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
 #include "twincal/controllers/presets.hpp"
+#include "twincal/controllers/probe_design.hpp"
 #include "twincal/controllers/quality_filter.hpp"
+#include "twincal/controllers/sampler_state.hpp"
+#include "twincal/controllers/searched_optimum_twin.hpp"
+#include "twincal/controllers/thompson_probe.hpp"
 #include "twincal/controllers/trace_loss.hpp"
 #include "twincal/controllers/weighted_trace_loss.hpp"
+#include "twincal/models/key_point_twin.hpp"
+#include "twincal/models/no_nonlinearity.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
+#include "twincal/samplers/halton.hpp"
+#include "twincal/samplers/latin_hypercube.hpp"
+#include "twincal/samplers/pseudo_random.hpp"
+#include "twincal/samplers/sobol.hpp"
 
 namespace twincal::static_checks {
 
@@ -45,6 +56,34 @@ static_assert(SnapshotController<PerComponentPaperController<RmsQuadraticTwin>>)
 static_assert(QualityFilter<PaperFilter<RmsQuadraticTwin, 3>>);
 static_assert(QualityFilter<CubatureFilter<RmsQuadraticTwin, Dynamic>>);
 static_assert(!QualityFilter<int>);
+// Snapshots of a filter: the sigma-point filters save and restore their state.
+static_assert(SnapshotFilter<PaperFilter<RmsQuadraticTwin, 3>>);
+static_assert(SnapshotFilter<CubatureFilter<RmsQuadraticTwin, Dynamic>>);
+static_assert(!SnapshotFilter<int>);
+
+// --- ProbeDesign / SnapshotProbe: the active controller's probes ------------------------------
+struct ProbeWithoutDesign {
+  void propose(const ProbeContext<3>&, Vector<3>&) {}
+};
+struct ProbeWithoutRestore {  // a design whose state cannot be restored is no SnapshotProbe
+  void design(const ProbeContext<3>&, Vector<3>&) {}
+  [[nodiscard]] nlohmann::json save() const { return {}; }
+};
+static_assert(ProbeDesign<NoProbe<3>, 3> && ProbeDesign<InformationProbe<Dynamic>, Dynamic>);
+static_assert(ProbeDesign<ThompsonProbe<3>, 3>);
+static_assert(!ProbeDesign<ProbeWithoutDesign, 3>);
+static_assert(ProbeDesign<ProbeWithoutRestore, 3> && !SnapshotProbe<ProbeWithoutRestore>);
+static_assert(SnapshotProbe<NoProbe<3>> && SnapshotProbe<InformationProbe<Dynamic>>);
+static_assert(SnapshotProbe<ThompsonProbe<Dynamic>>);
+
+// --- SnapshotSampler: every sampler of the project saves its position --------------------------
+static_assert(SnapshotSampler<Sobol> && SnapshotSampler<Halton>);
+static_assert(SnapshotSampler<PseudoRandom> && SnapshotSampler<LatinHypercube>);
+static_assert(!SnapshotSampler<int>);
+
+// --- TwinWithSearchStart: a twin that knows where to start the search for u0 ------------------
+static_assert(TwinWithSearchStart<KeyPointTwin<NoNonlinearity>>);
+static_assert(Twin<RmsQuadraticTwin> && !TwinWithSearchStart<RmsQuadraticTwin>);
 
 // --- losses -----------------------------------------------------------------------------------
 static_assert(ExploitationLoss<ExpectedQuality>);

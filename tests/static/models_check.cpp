@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "twincal/external/external_twin.hpp"
+#include "twincal/models/assembly_id.hpp"
 #include "twincal/models/bouncing_drift.hpp"
 #include "twincal/models/brownian_drift.hpp"
 #include "twincal/models/constant_drift.hpp"
@@ -127,6 +128,14 @@ static_assert(Twin<KeyPointTwin<ContactNonlinearity>> &&
 static_assert(Execution<SerialExecution>);
 static_assert(Execution<ParallelExecution>);
 static_assert(!Execution<int>);
+
+// --- HashableAssembly: what the Evaluator can memoize by --------------------------------------
+struct UnhashedAssembly {  // equality alone is not enough: the memo is a hash map
+  friend bool operator==(const UnhashedAssembly&, const UnhashedAssembly&) = default;
+};
+static_assert(HashableAssembly<AssemblyId> && HashableAssembly<Index>);
+static_assert(HashableAssembly<std::string>);
+static_assert(!HashableAssembly<UnhashedAssembly>);
 
 // --- Drift -----------------------------------------------------------------------------------
 struct DriftWithoutAdvance {
