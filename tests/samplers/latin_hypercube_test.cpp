@@ -44,22 +44,10 @@ TEST(LatinHypercube, CenteredPutsPointsAtCellCentres) {
   EXPECT_TRUE(((points.array() * 8.0 - 0.5).round() == points.array() * 8.0 - 0.5).all());
 }
 
-TEST(LatinHypercube, SeedAndDiscardAreReproducible) {
-  LatinHypercube a(4, {.seed = 9});
-  LatinHypercube b(4);
-  b.seed(9);
-  MatrixX first(4, 10);
-  MatrixX second(4, 10);
-  MatrixX third(4, 10);
-  a.fill(first);
-  a.fill(second);
-  b.discard(10);  // drops the first design
-  b.fill(third);
-  EXPECT_EQ(third, second);
-  EXPECT_NE(first, second);
-}
+// Seeding, discard (one dropped design), new designs per fill, the unit cube and the error
+// types: the conformance suite (sampler_conformance_test.cpp).
 
-TEST(LatinHypercube, RejectsBadArguments) {
+TEST(LatinHypercube, ErrorMessagesNameTheArgumentTheValueAndTheRule) {
   try {
     LatinHypercube bad(-1);
     FAIL();

@@ -18,10 +18,7 @@ namespace twincal::contact_sheet_metal_twin_test {
 namespace {
 
 SheetMetalTwin small_linear(bool door_like) {
-  SheetMetalTwinOptions options;
-  options.upper_parts = 2;
-  options.lower_parts = 2;
-  return SheetMetalTwin::generate(contact_test_layouts::small_lap_joint(door_like), options, 17);
+  return contact_test_layouts::small_lap_joint_twin(door_like, 17);
 }
 
 ContactSheetMetalTwin small_twin(bool door_like, double nominal_gap) {

@@ -5,7 +5,10 @@
 // a twin builds in milliseconds; `door_like` releases onto a nominal frame with rotation-locking
 // welds (the door's choices), otherwise the assembly stays on its adjusted locators (the body's).
 
+#include <cstdint>
+
 #include "twincal/sheet_metal/sheet_metal_layout.hpp"
+#include "twincal/sheet_metal/sheet_metal_twin.hpp"
 
 namespace twincal::contact_test_layouts {
 
@@ -22,6 +25,14 @@ inline SheetMetalLayout small_lap_joint(bool door_like) {
     layout.weld_tie = WeldTie::translation_and_rotation;
   }
   return layout;
+}
+
+/// The linear twin of small_lap_joint(door_like) over 2 × 2 seeded parts.
+inline SheetMetalTwin small_lap_joint_twin(bool door_like, std::uint64_t seed) {
+  SheetMetalTwinOptions options;
+  options.upper_parts = 2;
+  options.lower_parts = 2;
+  return SheetMetalTwin::generate(small_lap_joint(door_like), options, seed);
 }
 
 }  // namespace twincal::contact_test_layouts
