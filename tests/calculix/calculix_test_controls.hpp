@@ -6,7 +6,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/random_stream.hpp"
 
-namespace twincal::calculix_test {
+namespace twincal::test_support {
 
 inline MatrixX random_controls(Index columns, std::uint64_t seed, double half_width) {
   RandomStream stream(seed);
@@ -17,4 +17,4 @@ inline MatrixX random_controls(Index columns, std::uint64_t seed, double half_wi
   return controls;
 }
 
-}  // namespace twincal::calculix_test
+}  // namespace twincal::test_support

@@ -34,7 +34,7 @@ CalculixOptions no_contact_options() {
 }
 
 MatrixX box_controls(Index columns, std::uint64_t seed) {
-  return calculix_test::random_controls(columns, seed, 0.8);
+  return test_support::random_controls(columns, seed, 0.8);
 }
 
 // Two independent FEMs of the same lap joint and parts: CalculiX's C3D8I solids and the

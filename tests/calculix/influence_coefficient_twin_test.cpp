@@ -15,7 +15,7 @@ CalculixTwin lap_joint(bool linear) {
 }
 
 MatrixX random_controls(Index columns, std::uint64_t seed) {
-  return calculix_test::random_controls(columns, seed, 1.0);
+  return test_support::random_controls(columns, seed, 1.0);
 }
 
 // The parts' scaled copy: the same shapes, `factor` times the deviation.

@@ -24,7 +24,7 @@
 namespace twincal {
 namespace {
 
-using testing::CountingTwin;
+using test_support::CountingTwin;
 
 static_assert(EstimatingController<ActiveController<CountingTwin, 3>>);
 static_assert(EstimatingController<ActiveController<CountingTwin, Dynamic>>);
@@ -43,7 +43,7 @@ TYPED_TEST_SUITE(ActiveControllerTest, ActiveControllers);
 // estimation error and checks every control against the twin's bounds widened by the largest
 // correction (ActiveOptions::max_offset_fraction of the box width).
 template <typename C>
-double track(C& controller, const testing::AnalyticTwin& twin, const VectorX& offset, int steps) {
+double track(C& controller, const test_support::AnalyticTwin& twin, const VectorX& offset, int steps) {
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   for (int t = 0; t < steps; ++t) {
     const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
@@ -58,7 +58,7 @@ double track(C& controller, const testing::AnalyticTwin& twin, const VectorX& of
 }
 
 TYPED_TEST(ActiveControllerTest, TracksAConstantOffsetOfEveryLocatorWithinItsBudget) {
-  const testing::AnalyticTwin twin = testing::make_twin(3);
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
   TypeParam controller(counting, RandomStream(1));
   const VectorX offset = Eigen::Vector3d(0.15, -0.1, 0.05);
@@ -68,7 +68,7 @@ TYPED_TEST(ActiveControllerTest, TracksAConstantOffsetOfEveryLocatorWithinItsBud
 }
 
 TYPED_TEST(ActiveControllerTest, RecoversFromAnOverconfidentMirrorImageStart) {
-  const testing::AnalyticTwin twin = testing::make_twin(3);
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
   TypeParam controller(counting, RandomStream(2));
   const VectorX offset = Eigen::Vector3d(0.2, -0.15, 0.1);
@@ -79,7 +79,7 @@ TYPED_TEST(ActiveControllerTest, RecoversFromAnOverconfidentMirrorImageStart) {
 }
 
 TYPED_TEST(ActiveControllerTest, ClipsControlsToTheTwinBoundsWhenTheEstimateIsLost) {
-  const testing::AnalyticTwin twin = testing::make_twin(3);
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
   TypeParam controller(counting, RandomStream(3));
   controller.restart(Eigen::Vector3d::Constant(5.0),
@@ -98,7 +98,7 @@ TYPED_TEST(ActiveControllerTest, ClipsControlsToTheTwinBoundsWhenTheEstimateIsLo
 }
 
 TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {
-  const testing::AnalyticTwin twin = testing::make_twin(3);
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
   TypeParam controller(counting, RandomStream(4));
   const AssemblyId x{1, 1};
@@ -196,8 +196,8 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
             "audit_period >= 2 and audit_window >= 3");
   EXPECT_EQ(ActiveOptions{.audit_misfit = 0.5}.validate(),
             "audit_misfit is 0.5; it must be finite and >= 1");
-  const testing::AnalyticTwin twin = testing::make_twin(2);
-  EXPECT_THROW((ActiveController<testing::AnalyticTwin, Dynamic>(
+  const test_support::AnalyticTwin twin = test_support::make_twin(2);
+  EXPECT_THROW((ActiveController<test_support::AnalyticTwin, Dynamic>(
                    twin, RandomStream(1), ActiveOptions{.max_probe_fraction = 2.0})),
                InvalidArgumentError);
 }
@@ -249,7 +249,7 @@ void expect_active_restores(const T& twin, const std::vector<AssemblyId>& assemb
 }
 
 TYPED_TEST(ActiveControllerTest, ASnapshotRestoresItBitForBit) {
-  const testing::AnalyticTwin twin = testing::make_twin(3);
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
   expect_active_restores<TypeParam>(counting, twin.assemblies(), ActiveOptions{}, 0);
 }
@@ -266,10 +266,10 @@ TEST(ActiveController, ASnapshotRestoresItsSigmaPointModeBitForBit) {
 }
 
 TEST(ActiveController, RefusesABadSnapshotAndKeepsItsState) {
-  const testing::AnalyticTwin twin = testing::make_twin(3);
-  ActiveController<testing::AnalyticTwin, Dynamic> tried(twin, RandomStream(8));
-  ActiveController<testing::AnalyticTwin, Dynamic> untouched(twin, RandomStream(8));
-  ActiveController<testing::AnalyticTwin, Dynamic> other(twin, RandomStream(9));
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
+  ActiveController<test_support::AnalyticTwin, Dynamic> tried(twin, RandomStream(8));
+  ActiveController<test_support::AnalyticTwin, Dynamic> untouched(twin, RandomStream(8));
+  ActiveController<test_support::AnalyticTwin, Dynamic> other(twin, RandomStream(9));
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   for (int t = 0; t < 20; ++t) {
     (void)active_snapshot_step(tried, twin, assemblies, t);

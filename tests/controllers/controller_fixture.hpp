@@ -16,7 +16,7 @@
 #include "twincal/models/random_walk.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
 
-namespace twincal::testing {
+namespace twincal::test_support {
 
 using AnalyticTwin = RmsQuadraticTwin;
 using CountingTwin = Evaluator<AnalyticTwin>;
@@ -103,4 +103,4 @@ class FailingOnLargeBatches : public BlackBox {
   Index max_batch_;
 };
 
-}  // namespace twincal::testing
+}  // namespace twincal::test_support

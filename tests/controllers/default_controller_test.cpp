@@ -7,18 +7,18 @@
 namespace twincal {
 namespace {
 
-using testing::AnalyticTwin;
-using testing::CountingTwin;
-using testing::make_filter;
-using testing::make_twin;
+using test_support::AnalyticTwin;
+using test_support::CountingTwin;
+using test_support::make_filter;
+using test_support::make_twin;
 
-static_assert(EstimatingController<DefaultController<testing::Ukf<3>>>);
-static_assert(EstimatingController<DefaultController<testing::Ckf<Dynamic>>>);
+static_assert(EstimatingController<DefaultController<test_support::Ukf<3>>>);
+static_assert(EstimatingController<DefaultController<test_support::Ckf<Dynamic>>>);
 
 TEST(DefaultController, WithZeroOffsetEstimateItAppliesTheIndividualOptimum) {
   const AnalyticTwin twin = make_twin(3);
   const CountingTwin counting(twin);
-  using F = testing::Ukf<3>;
+  using F = test_support::Ukf<3>;
   DefaultController<F> controller(make_filter<F>(counting, Eigen::Vector3d::Zero(), 1e-3));
   const AssemblyId x{5, 2};
   const Eigen::Vector3d u = controller.propose(x);
@@ -31,7 +31,7 @@ TEST(DefaultController, WithZeroOffsetEstimateItAppliesTheIndividualOptimum) {
 TEST(DefaultController, AppliesTheOptimumCorrectedByTheFilterEstimateAndLearns) {
   const AnalyticTwin twin = make_twin(2);
   const CountingTwin counting(twin);
-  using F = testing::Ukf<Dynamic>;
+  using F = test_support::Ukf<Dynamic>;
   DefaultController<F> controller(make_filter<F>(counting, Eigen::Vector2d(0.1, -0.2), 1e-3));
   F reference = controller.filter();
   const AssemblyId x{0, 9};

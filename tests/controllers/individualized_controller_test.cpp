@@ -8,13 +8,13 @@
 namespace twincal {
 namespace {
 
-using testing::BlackBox;
+using test_support::BlackBox;
 
 static_assert(Twin<BlackBox> && !TwinWithOptimum<BlackBox>);
 static_assert(Controller<IndividualizedController<BlackBox>>);
 
 TEST(IndividualizedController, UsesTheTwinsExactOptimumWhenItHasOne) {
-  const RmsQuadraticTwin twin = testing::make_twin(3);
+  const RmsQuadraticTwin twin = test_support::make_twin(3);
   IndividualizedController<RmsQuadraticTwin> controller(twin);
   for (const AssemblyId& x : {AssemblyId{0, 0}, AssemblyId{3, 8}}) {
     EXPECT_EQ(controller.propose(x), twin.optimum(x));
@@ -24,7 +24,7 @@ TEST(IndividualizedController, UsesTheTwinsExactOptimumWhenItHasOne) {
 }
 
 TEST(IndividualizedController, FindsTheOptimumOfABlackBoxWithTheOptimizer) {
-  const RmsQuadraticTwin twin = testing::make_twin(3);
+  const RmsQuadraticTwin twin = test_support::make_twin(3);
   const BlackBox black_box(twin);
   IndividualizedController<BlackBox> controller(black_box);
   const AssemblyId x{6, 1};

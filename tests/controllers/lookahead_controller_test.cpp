@@ -17,10 +17,10 @@
 namespace twincal {
 namespace {
 
-using testing::AnalyticTwin;
-using testing::CountingTwin;
-using testing::make_filter;
-using testing::make_twin;
+using test_support::AnalyticTwin;
+using test_support::CountingTwin;
+using test_support::make_filter;
+using test_support::make_twin;
 
 SobolOptions scrambled(std::uint64_t seed) {
   return {.randomization = SobolRandomization::owen, .seed = seed};
@@ -29,8 +29,8 @@ SobolOptions scrambled(std::uint64_t seed) {
 template <typename F>
 using SobolController = LookaheadController<F, Sobol>;
 
-static_assert(Controller<SobolController<testing::Ukf<2>>>);
-static_assert(EstimatingController<SobolController<testing::Ukf<2>>>);
+static_assert(Controller<SobolController<test_support::Ukf<2>>>);
+static_assert(EstimatingController<SobolController<test_support::Ukf<2>>>);
 
 // The candidates the controller scored after a propose, drawn again with an identical sampler.
 template <typename C, typename F>
@@ -52,7 +52,7 @@ TEST(LookaheadController, WithWZeroAndATinyCovarianceItPicksTheCandidateClosestT
   const AnalyticTwin twin = make_twin(2);
   const CountingTwin counting(twin);
   const Eigen::Vector2d offset_estimate(0.05, -0.03);
-  using F = testing::Ukf<2>;
+  using F = test_support::Ukf<2>;
   SobolController<F> controller(make_filter<F>(counting, offset_estimate, 1e-10, 1e-12),
                                 Sobol(2, scrambled(3)), {.w = 0.0});
   const AssemblyId x{2, 7};
@@ -85,7 +85,7 @@ TEST(LookaheadController, WithWZeroAndATinyCovarianceItPicksTheCandidateClosestT
 TEST(LookaheadController, WithWOneTheChoiceMinimizesTheExplorationLossOverTheSet) {
   const AnalyticTwin twin = make_twin(2);
   const CountingTwin counting(twin);
-  using F = testing::Ukf<2>;
+  using F = test_support::Ukf<2>;
   SobolController<F> controller(make_filter<F>(counting, Eigen::Vector2d(0.1, 0.0), 0.02),
                                 Sobol(2, scrambled(11)), {.w = 1.0});
   const AssemblyId x{4, 1};
@@ -115,7 +115,7 @@ TEST(LookaheadController, WithWOneTheChoiceMinimizesTheExplorationLossOverTheSet
 TEST(LookaheadController, QualityEvaluationsPerAssemblyAreCandidatesTimesSigmaPoints) {
   const AnalyticTwin twin = make_twin(3);
   const CountingTwin counting(twin);
-  using F = testing::Ukf<3>;
+  using F = test_support::Ukf<3>;
   SobolController<F> controller(make_filter<F>(counting, Eigen::Vector3d::Zero(), 1e-3),
                                 Sobol(3, scrambled(2)), {.w = 0.5});
   const AssemblyId x{0, 0};
@@ -136,7 +136,7 @@ TEST(LookaheadController, QualityEvaluationsPerAssemblyAreCandidatesTimesSigmaPo
 TEST(LookaheadController, ObservingAnotherControlRunsAnOrdinaryUpdate) {
   const AnalyticTwin twin = make_twin(1);
   const CountingTwin counting(twin);
-  using F = testing::Ukf<1>;
+  using F = test_support::Ukf<1>;
   SobolController<F> controller(make_filter<F>(counting, Vector<1>(0.0), 1e-3),
                                 Sobol(1, scrambled(2)), {.w = 0.5});
   const AssemblyId x{1, 1};
@@ -154,11 +154,11 @@ TEST(LookaheadController, ObservingAnotherControlRunsAnOrdinaryUpdate) {
 TEST(LookaheadController, ATwinFailureFallsBackToTheDefaultControlWithoutTouchingTheFilter) {
   const AnalyticTwin inner = make_twin(2);
   // Scoring needs 16 candidates × 5 sigma points in one batch; the filter's update needs 5.
-  const testing::FailingOnLargeBatches failing(inner, 5);
-  const Evaluator<testing::FailingOnLargeBatches> twin(failing);
-  using Model = QualityFeedback<Evaluator<testing::FailingOnLargeBatches>, 2>;
+  const test_support::FailingOnLargeBatches failing(inner, 5);
+  const Evaluator<test_support::FailingOnLargeBatches> twin(failing);
+  using Model = QualityFeedback<Evaluator<test_support::FailingOnLargeBatches>, 2>;
   using F = UnscentedKalmanFilter<RandomWalk<2>, Model>;
-  F filter(RandomWalk<2>::isotropic(2, 1e-3), Model(twin, 1e-4), testing::merwe(),
+  F filter(RandomWalk<2>::isotropic(2, 1e-3), Model(twin, 1e-4), test_support::merwe(),
            Eigen::Vector2d(0.02, 0.0), Eigen::Matrix2d::Identity() * 1e-3);
   F reference = filter;
   LookaheadController<F, Sobol> controller(std::move(filter), Sobol(2, scrambled(1)));
@@ -180,7 +180,7 @@ TEST(LookaheadController, ATwinFailureFallsBackToTheDefaultControlWithoutTouchin
 TEST(LookaheadController, RejectsBadOptionsAndAMismatchedSampler) {
   const AnalyticTwin twin = make_twin(2);
   const CountingTwin counting(twin);
-  using F = testing::Ukf<2>;
+  using F = test_support::Ukf<2>;
   const F filter = make_filter<F>(counting, Eigen::Vector2d::Zero(), 1e-3);
   using C = SobolController<F>;
   EXPECT_THAT([&] { C(filter, Sobol(2), {.w = 1.5}); },
@@ -221,7 +221,7 @@ TrackingErrors track_drift(C& controller, const AnalyticTwin& twin, std::uint64_
     EXPECT_FALSE(controller.last_proposal().fell_back()) << controller.last_proposal().fallback;
     const VectorX shifted = VectorX(u) - drift.offset();
     const double z =
-        twin.quality(x, shifted) + std::sqrt(testing::measurement_variance) * noise.normal();
+        twin.quality(x, shifted) + std::sqrt(test_support::measurement_variance) * noise.normal();
     controller.observe(x, u, z);
     const double error = (VectorX(controller.offset_estimate()) - drift.offset()).norm();
     EXPECT_LT(error, 10.0) << "diverged at assembly " << t;
@@ -243,8 +243,8 @@ void expect_tracking(const TrackingErrors& errors) {
 
 template <typename F>
 class LookaheadControllerFilters : public ::testing::Test {};
-using Filters = ::testing::Types<testing::Ukf<1>, testing::Ckf<1>, testing::SquareRootUkf<1>,
-                                 testing::Ukf<Dynamic>>;
+using Filters = ::testing::Types<test_support::Ukf<1>, test_support::Ckf<1>, test_support::SquareRootUkf<1>,
+                                 test_support::Ukf<Dynamic>>;
 TYPED_TEST_SUITE(LookaheadControllerFilters, Filters);
 
 TYPED_TEST(LookaheadControllerFilters, TracksASlowDriftWithoutDivergingForOneLocator) {
@@ -257,8 +257,8 @@ TYPED_TEST(LookaheadControllerFilters, TracksASlowDriftWithoutDivergingForOneLoc
   expect_tracking(track_drift(controller, twin, 2023));
 }
 
-static_assert(SnapshotController<SobolController<testing::Ukf<2>>>);
-static_assert(SnapshotController<LookaheadController<testing::SquareRootUkf<3>, Halton>>);
+static_assert(SnapshotController<SobolController<test_support::Ukf<2>>>);
+static_assert(SnapshotController<LookaheadController<test_support::SquareRootUkf<3>, Halton>>);
 
 // Assembly t of a drifting offset; the whole state after the observation (save()) as text.
 template <typename C>
@@ -312,8 +312,8 @@ TEST(LookaheadController, RefusesABadSnapshotAndKeepsItsState) {
   const AnalyticTwin twin = make_twin(2);
   const CountingTwin counting(twin);
   const auto make = [&counting] {
-    return SobolController<testing::Ukf<2>>(
-        make_filter<testing::Ukf<2>>(counting, Eigen::Vector2d::Zero(), 1e-3),
+    return SobolController<test_support::Ukf<2>>(
+        make_filter<test_support::Ukf<2>>(counting, Eigen::Vector2d::Zero(), 1e-3),
         Sobol(2, scrambled(4)), {.w = 0.3});
   };
   auto tried = make();
@@ -350,7 +350,7 @@ TEST(LookaheadController, AblationsAreTypeChanges) {
   // Halton for Sobol, log-det for trace, CKF for UKF: the same code and guarantees.
   const AnalyticTwin twin = make_twin(1);
   const CountingTwin counting(twin);
-  using F = testing::Ckf<1>;
+  using F = test_support::Ckf<1>;
   LookaheadController<F, Halton, ExpectedQuality, LogDetLoss> controller(
       make_filter<F>(counting, Vector<1>::Zero(), 1e-3), Halton(1), {.w = 0.7});
   expect_tracking(track_drift(controller, twin, 7));

@@ -11,7 +11,7 @@ namespace {
 static_assert(Controller<NominalController<RmsQuadraticTwin>>);
 
 TEST(NominalController, AppliesTheReferenceOptimumToEveryAssembly) {
-  const RmsQuadraticTwin twin = testing::make_twin(3);
+  const RmsQuadraticTwin twin = test_support::make_twin(3);
   const AssemblyId reference{0, 0};
   NominalController<RmsQuadraticTwin> controller(twin, reference);
   EXPECT_EQ(controller.nominal().control, twin.optimum(reference));
@@ -25,7 +25,7 @@ TEST(NominalController, AppliesTheReferenceOptimumToEveryAssembly) {
 
 TEST(NominalController, IsWorseThanIndividualOptimaOnAverage) {
   // The point of Def. 2 over Def. 1: per-assembly optima beat one reference optimum.
-  const RmsQuadraticTwin twin = testing::make_twin(3);
+  const RmsQuadraticTwin twin = test_support::make_twin(3);
   NominalController<RmsQuadraticTwin> controller(twin, AssemblyId{0, 0});
   double nominal = 0.0;
   double individual = 0.0;

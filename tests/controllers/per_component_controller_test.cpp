@@ -10,13 +10,13 @@
 namespace twincal {
 namespace {
 
-using testing::AnalyticTwin;
-using testing::CountingTwin;
+using test_support::AnalyticTwin;
+using test_support::CountingTwin;
 
 static_assert(EstimatingController<PerComponentPaperController<CountingTwin>>);
 
 TEST(ComponentTwin, IsTheTwinAlongOneLocatorWithTheOthersFromTheContext) {
-  const AnalyticTwin twin = testing::make_twin(3);
+  const AnalyticTwin twin = test_support::make_twin(3);
   auto context = std::make_shared<ComponentContext<AnalyticTwin>>();
   context->twin = &twin;
   context->controls = Eigen::Vector3d(0.1, -0.2, 0.05);
@@ -37,7 +37,7 @@ TEST(ComponentTwin, IsTheTwinAlongOneLocatorWithTheOthersFromTheContext) {
 }
 
 TEST(PerComponentController, CostGrowsLinearlyAndEveryUpdateUsesTheRealContext) {
-  const AnalyticTwin twin = testing::make_twin(3);
+  const AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
   auto controller = make_per_component_paper_controller(counting, RandomStream(4), {.w = 0.5});
   const AssemblyId x{1, 2};
@@ -64,7 +64,7 @@ TEST(PerComponentController, CostGrowsLinearlyAndEveryUpdateUsesTheRealContext) 
 }
 
 TEST(PerComponentController, TracksASlowDriftOnTwoLocatorsWithoutDiverging) {
-  const AnalyticTwin twin = testing::make_twin(2);
+  const AnalyticTwin twin = test_support::make_twin(2);
   auto controller = make_per_component_paper_controller(twin, RandomStream(8), {.w = 1.0});
   RandomStream drift_stream = RandomStream(21).substream("drift");
   BouncingDrift<Dynamic> drift = BouncingDrift<Dynamic>::random(2, drift_stream);

@@ -9,9 +9,9 @@ namespace twincal {
 namespace {
 
 TEST(QuadraticSurrogate, FitsTheSquaredQualityOfAQuadraticTwinExactly) {
-  const testing::AnalyticTwin twin = testing::make_twin(4);
-  const testing::CountingTwin counting(twin);
-  QuadraticSurrogate<testing::CountingTwin, Dynamic> surrogate(counting);
+  const test_support::AnalyticTwin twin = test_support::make_twin(4);
+  const test_support::CountingTwin counting(twin);
+  QuadraticSurrogate<test_support::CountingTwin, Dynamic> surrogate(counting);
   const AssemblyId x{3, 7};
   QuadraticModel<Dynamic> model;
   // Fitted away from the optimum, so the gradient is not zero.
@@ -38,9 +38,9 @@ TEST(QuadraticSurrogate, FitsTheSquaredQualityOfAQuadraticTwinExactly) {
 // relinearization): d + 1 evaluations, exact for a quadratic twin, and the surrogate's own H and
 // its age untouched.
 TEST(QuadraticSurrogate, RefitsAGradientWithAGivenHessianAndKeepsItsOwn) {
-  const testing::AnalyticTwin twin = testing::make_twin(4);
-  const testing::CountingTwin counting(twin);
-  QuadraticSurrogate<testing::CountingTwin, Dynamic> surrogate(counting);
+  const test_support::AnalyticTwin twin = test_support::make_twin(4);
+  const test_support::CountingTwin counting(twin);
+  QuadraticSurrogate<test_support::CountingTwin, Dynamic> surrogate(counting);
   const AssemblyId x{3, 7};
   QuadraticModel<Dynamic> own;
   static_cast<void>(surrogate.fit(x, twin.optimum(x), own));

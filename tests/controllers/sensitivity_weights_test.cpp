@@ -9,7 +9,7 @@ namespace twincal {
 namespace {
 
 TEST(SensitivityWeights, AreTheCurvatureOfTheQualityAtTheOptimumScaledToMeanOne) {
-  const RmsQuadraticTwin twin = testing::make_twin(3);
+  const RmsQuadraticTwin twin = test_support::make_twin(3);
   const IndividualOptimum<RmsQuadraticTwin> optimum(twin);
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   const VectorX weights = sensitivity_weights(optimum, assemblies, {.step = 1e-3});
@@ -24,7 +24,7 @@ TEST(SensitivityWeights, AreTheCurvatureOfTheQualityAtTheOptimumScaledToMeanOne)
 }
 
 TEST(SensitivityWeights, RejectBadInput) {
-  const RmsQuadraticTwin twin = testing::make_twin(2);
+  const RmsQuadraticTwin twin = test_support::make_twin(2);
   const IndividualOptimum<RmsQuadraticTwin> optimum(twin);
   EXPECT_THAT([&] { (void)sensitivity_weights(optimum, {}); },
               ::testing::ThrowsMessage<InvalidArgumentError>(

@@ -14,7 +14,7 @@
 
 #include "twincal/core/eigen.hpp"
 
-namespace twincal::golden {
+namespace twincal::test_support {
 
 inline nlohmann::json load(const std::string& name) {
   std::ifstream in(std::string(TWINCAL_TEST_DATA_DIR) + "/" + name);
@@ -88,4 +88,4 @@ class Agreement {
   std::map<std::string, Entry> entries_;
 };
 
-}  // namespace twincal::golden
+}  // namespace twincal::test_support

@@ -18,7 +18,7 @@
 #include "twincal/filters/spherical_radial_sigma_points.hpp"
 #include "twincal/models/random_walk.hpp"
 
-namespace twincal::golden {
+namespace twincal::test_support {
 
 template <int N>
 RandomWalk<N> process_model(const nlohmann::json& run) {
@@ -91,4 +91,4 @@ inline std::string describe(const std::string& file, const nlohmann::json& run) 
   return name + " d=" + std::to_string(run["d"].get<int>());
 }
 
-}  // namespace twincal::golden
+}  // namespace twincal::test_support

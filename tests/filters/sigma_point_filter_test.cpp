@@ -24,24 +24,24 @@ using ::testing::HasSubstr;
 // --- filterpy parity -------------------------------------------------------------------------
 
 template <int N, typename Scheme>
-golden::Agreement replay_standard(const std::string& file, const nlohmann::json& run,
+test_support::Agreement replay_standard(const std::string& file, const nlohmann::json& run,
                                   const Scheme& scheme) {
   using Filter = SigmaPointFilter<RandomWalk<N>, QuadraticQualityMeasurement<N>, Scheme>;
-  Filter filter(golden::process_model<N>(run), golden::measurement_model<N>(run), scheme,
-                golden::vector<N>(run["x0"]), golden::matrix<N, N>(run["P0"]),
-                SigmaPointFilterOptions::filterpy(golden::refresh_of(file, run)));
-  return golden::replay(filter, run);
+  Filter filter(test_support::process_model<N>(run), test_support::measurement_model<N>(run), scheme,
+                test_support::vector<N>(run["x0"]), test_support::matrix<N, N>(run["P0"]),
+                SigmaPointFilterOptions::filterpy(test_support::refresh_of(file, run)));
+  return test_support::replay(filter, run);
 }
 
 TEST(SigmaPointFilterGolden, ReproducesEveryStoredNumberOfBothFilterpyReleases) {
   for (const std::string file : {"filter_runs_1.4.5.json", "filter_runs_master.json"}) {
-    const nlohmann::json data = golden::load(file);
+    const nlohmann::json data = test_support::load(file);
     double worst = 0.0;
     std::string worst_where;
     for (const nlohmann::json& run : data["runs"]) {
-      const std::string context = golden::describe(file, run);
-      golden::with_scheme(run, [&](const auto& scheme) {
-        const golden::Agreement dynamic = replay_standard<Dynamic>(file, run, scheme);
+      const std::string context = test_support::describe(file, run);
+      test_support::with_scheme(run, [&](const auto& scheme) {
+        const test_support::Agreement dynamic = replay_standard<Dynamic>(file, run, scheme);
         dynamic.expect_within(1e-9, context + " (Dynamic)");
         if (dynamic.worst().first >= worst) {
           worst = dynamic.worst().first;
@@ -262,7 +262,7 @@ TYPED_TEST(SigmaPointFilterTest, RestoreRejectsForeignOrBrokenStatesAndKeepsItsO
 
 template <typename Scheme, bool batch>
 void expect_one_evaluation_per_sigma_point(const Scheme& scheme) {
-  using Measurement = test_models::CountingMeasurement<3, batch>;
+  using Measurement = test_support::CountingMeasurement<3, batch>;
   EvaluationCounter counter;
   SigmaPointFilter<RandomWalk<3>, Measurement, Scheme> filter(
       RandomWalk<3>::isotropic(3, 1e-3),
@@ -341,8 +341,8 @@ TEST(SigmaPointFilter, ConstructorNamesWhatIsWrong) {
 }
 
 TEST(SigmaPointFilter, NonFiniteModelOutputsLeaveTheFilterUnchanged) {
-  using Walk = test_models::ExplodingWalk<2>;
-  using Nan = test_models::NanAboveThreshold<2>;
+  using Walk = test_support::ExplodingWalk<2>;
+  using Nan = test_support::NanAboveThreshold<2>;
   SigmaPointFilter<Walk, Nan, SphericalRadialSigmaPoints> filter(
       Walk{Eigen::Matrix2d::Identity() * 1e-3}, Nan{0.5}, {}, Eigen::Vector2d(0.4, 0.0),
       Eigen::Matrix2d::Identity() * 0.01);
@@ -362,11 +362,11 @@ TEST(SigmaPointFilter, NonFiniteModelOutputsLeaveTheFilterUnchanged) {
 // R completely and P⁺ is singular in floating point.
 
 using NearSingular =
-    SigmaPointFilter<RandomWalk<2>, test_models::LinearMeasurement<2>, SphericalRadialSigmaPoints>;
+    SigmaPointFilter<RandomWalk<2>, test_support::LinearMeasurement<2>, SphericalRadialSigmaPoints>;
 
 NearSingular near_singular(SigmaPointFilterOptions options) {
   return NearSingular(RandomWalk<2>::isotropic(2, 0.0),
-                      test_models::LinearMeasurement<2>{Eigen::Vector2d(1.0, 0.0), 1e-20}, {},
+                      test_support::LinearMeasurement<2>{Eigen::Vector2d(1.0, 0.0), 1e-20}, {},
                       Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity(), options);
 }
 
@@ -385,7 +385,7 @@ TEST(SigmaPointFilterSafeguards, JitterRepairsAndReportsIt) {
   options.factorization.repair = CovarianceRepair::jitter;
   NearSingular filter = near_singular(options);
   filter.predict();
-  const auto preview = filter.preview(test_models::LinearMeasurement<2>::Inputs{});
+  const auto preview = filter.preview(test_support::LinearMeasurement<2>::Inputs{});
   EXPECT_EQ(preview.factorization.applied, CovarianceRepair::jitter);
   EXPECT_GT(preview.factorization.jitter, 0.0);
   filter.commit(preview, 0.5);
@@ -406,7 +406,7 @@ TEST(SigmaPointFilterSafeguards, JosephFormStaysPositiveDefinite) {
 }
 
 TEST(SigmaPointFilterSafeguards, JosephFormAndSymmetrizationAgreeWithThePlainForm) {
-  const nlohmann::json data = golden::load("filter_runs_master.json");
+  const nlohmann::json data = test_support::load("filter_runs_master.json");
   const nlohmann::json& run = data["runs"][4];  // UKF, Merwe α = 0.1, d = 3
   ASSERT_EQ(run["d"], 3);
   const std::string file = "filter_runs_master.json";
@@ -414,10 +414,10 @@ TEST(SigmaPointFilterSafeguards, JosephFormAndSymmetrizationAgreeWithThePlainFor
     SigmaPointFilterOptions options;
     options.joseph_form = joseph;
     options.symmetrize = true;
-    Ukf<3> filter(golden::process_model<3>(run), golden::measurement_model<3>(run),
-                  MerweScaledSigmaPoints{0.1, 2.0, 0.0}, golden::vector<3>(run["x0"]),
-                  golden::matrix<3, 3>(run["P0"]), options);
-    golden::replay(filter, run).expect_within(1e-9, joseph ? "joseph" : "symmetrized");
+    Ukf<3> filter(test_support::process_model<3>(run), test_support::measurement_model<3>(run),
+                  MerweScaledSigmaPoints{0.1, 2.0, 0.0}, test_support::vector<3>(run["x0"]),
+                  test_support::matrix<3, 3>(run["P0"]), options);
+    test_support::replay(filter, run).expect_within(1e-9, joseph ? "joseph" : "symmetrized");
     EXPECT_EQ(filter.covariance(), filter.covariance().transpose());
   }
 }

@@ -97,14 +97,14 @@ TEST(SigmaPointSchemeConformance, DetectsAnOverclaimedDegree) {
 
 // --- filterpy parity -----------------------------------------------------------------------
 TEST(SigmaPointsGolden, MatchFilterpyPointsAndWeights) {
-  const nlohmann::json data = golden::load("sigma_points.json");
+  const nlohmann::json data = test_support::load("sigma_points.json");
   double worst = 0.0;
   for (const nlohmann::json& c : data["cases"]) {
     const std::string scheme = c["scheme"];
-    const VectorX mean = golden::vector(c["mean"]);
-    const MatrixX covariance = golden::matrix(c["cov"]);
+    const VectorX mean = test_support::vector(c["mean"]);
+    const MatrixX covariance = test_support::matrix(c["cov"]);
     const MatrixX lower = covariance.llt().matrixL();
-    const MatrixX expected_points = golden::matrix(c["points"]).transpose();  // rows are points
+    const MatrixX expected_points = test_support::matrix(c["points"]).transpose();  // rows are points
     SigmaPoints<Dynamic, Dynamic> set;
     if (scheme == "merwe") {
       set =
@@ -117,10 +117,10 @@ TEST(SigmaPointsGolden, MatchFilterpyPointsAndWeights) {
       ADD_FAILURE() << "unknown scheme " << scheme;
       continue;
     }
-    golden::Agreement agreement;
+    test_support::Agreement agreement;
     agreement.add("points", set.points, expected_points);
-    agreement.add("Wm", set.mean_weights, golden::vector(c["Wm"]));
-    agreement.add("Wc", set.covariance_weights, golden::vector(c["Wc"]));
+    agreement.add("Wm", set.mean_weights, test_support::vector(c["Wm"]));
+    agreement.add("Wc", set.covariance_weights, test_support::vector(c["Wc"]));
     const std::string context = scheme + " n=" + std::to_string(int(c["n"]));
     agreement.expect_within(1e-9, context);
     worst = std::max(worst, agreement.worst().first);

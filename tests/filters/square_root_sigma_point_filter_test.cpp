@@ -21,25 +21,25 @@ namespace {
 using ::testing::HasSubstr;
 
 template <int N, typename Scheme>
-golden::Agreement replay_square_root(const std::string& file, const nlohmann::json& run,
+test_support::Agreement replay_square_root(const std::string& file, const nlohmann::json& run,
                                      const Scheme& scheme, SquareRootUpdate update) {
   using Filter = SquareRootSigmaPointFilter<RandomWalk<N>, QuadraticQualityMeasurement<N>, Scheme>;
-  Filter filter(golden::process_model<N>(run), golden::measurement_model<N>(run), scheme,
-                golden::vector<N>(run["x0"]), SquareMatrix<N>(golden::matrix<N, N>(run["P0"])),
-                SquareRootFilterOptions{golden::refresh_of(file, run), update});
-  return golden::replay(filter, run);
+  Filter filter(test_support::process_model<N>(run), test_support::measurement_model<N>(run), scheme,
+                test_support::vector<N>(run["x0"]), SquareMatrix<N>(test_support::matrix<N, N>(run["P0"])),
+                SquareRootFilterOptions{test_support::refresh_of(file, run), update});
+  return test_support::replay(filter, run);
 }
 
 TEST(SquareRootSigmaPointFilterGolden, AgreesWithTheReferenceRunsInBothUpdateForms) {
   for (const std::string file : {"filter_runs_1.4.5.json", "filter_runs_master.json"}) {
-    const nlohmann::json data = golden::load(file);
+    const nlohmann::json data = test_support::load(file);
     for (const SquareRootUpdate update : {SquareRootUpdate::joseph, SquareRootUpdate::downdate}) {
       const std::string form = update == SquareRootUpdate::joseph ? "joseph" : "downdate";
       double worst = 0.0;
       for (const nlohmann::json& run : data["runs"]) {
-        const std::string context = golden::describe(file, run) + " " + form;
-        golden::with_scheme(run, [&](const auto& scheme) {
-          const golden::Agreement a = replay_square_root<Dynamic>(file, run, scheme, update);
+        const std::string context = test_support::describe(file, run) + " " + form;
+        test_support::with_scheme(run, [&](const auto& scheme) {
+          const test_support::Agreement a = replay_square_root<Dynamic>(file, run, scheme, update);
           a.expect_within(1e-8, context);
           worst = std::max(worst, a.worst().first);
           if (run["d"] == 3 && update == SquareRootUpdate::joseph) {
@@ -56,24 +56,24 @@ TEST(SquareRootSigmaPointFilterGolden, AgreesWithTheReferenceRunsInBothUpdateFor
 // The fifth-degree rule has negative axis weights for n > 4: the time update then needs
 // rank-one downdates after the QR. Both forms agree step by step.
 TEST(SquareRootSigmaPointFilter, NegativeWeightsAgreeWithTheStandardForm) {
-  const nlohmann::json data = golden::load("filter_runs_master.json");
+  const nlohmann::json data = test_support::load("filter_runs_master.json");
   const nlohmann::json& run = data["runs"][8];  // d = 6
   ASSERT_EQ(run["d"], 6);
   using Walk = RandomWalk<6>;
   using Quality = QuadraticQualityMeasurement<6>;
   const FifthDegreeCubatureSigmaPoints scheme;
   SigmaPointFilter<Walk, Quality, FifthDegreeCubatureSigmaPoints> standard(
-      golden::process_model<6>(run), golden::measurement_model<6>(run), scheme,
-      golden::vector<6>(run["x0"]), golden::matrix<6, 6>(run["P0"]),
+      test_support::process_model<6>(run), test_support::measurement_model<6>(run), scheme,
+      test_support::vector<6>(run["x0"]), test_support::matrix<6, 6>(run["P0"]),
       SigmaPointFilterOptions::filterpy(SigmaPointRefresh::redraw));
   SquareRootSigmaPointFilter<Walk, Quality, FifthDegreeCubatureSigmaPoints> square_root(
-      golden::process_model<6>(run), golden::measurement_model<6>(run), scheme,
-      golden::vector<6>(run["x0"]), SquareMatrix<6>(golden::matrix<6, 6>(run["P0"])));
+      test_support::process_model<6>(run), test_support::measurement_model<6>(run), scheme,
+      test_support::vector<6>(run["x0"]), SquareMatrix<6>(test_support::matrix<6, 6>(run["P0"])));
   ASSERT_LT(standard.covariance_weights().minCoeff(), 0.0);
-  golden::Agreement agreement;
+  test_support::Agreement agreement;
   for (std::size_t t = 0; t < run["steps"].size(); ++t) {
-    const Quality::Inputs in{golden::vector<6>(run["inputs"][t]["a"]),
-                             golden::vector<6>(run["inputs"][t]["u"])};
+    const Quality::Inputs in{test_support::vector<6>(run["inputs"][t]["a"]),
+                             test_support::vector<6>(run["inputs"][t]["u"])};
     standard.predict();
     square_root.predict();
     agreement.add("P_prior", square_root.covariance(), standard.covariance());
@@ -88,7 +88,7 @@ TEST(SquareRootSigmaPointFilter, NegativeWeightsAgreeWithTheStandardForm) {
 // --- near-singular covariances -----------------------------------------------------------------
 
 // Dynamic size: GCC 12 reports a false -Warray-bounds in core's rank-one update at fixed size 2.
-using Linear = test_models::LinearMeasurement<Dynamic>;
+using Linear = test_support::LinearMeasurement<Dynamic>;
 using Walk = RandomWalk<Dynamic>;
 using SquareRoot = SquareRootSigmaPointFilter<Walk, Linear, SphericalRadialSigmaPoints>;
 using Standard = SigmaPointFilter<Walk, Linear, SphericalRadialSigmaPoints>;
@@ -166,11 +166,11 @@ using SquareRootUkf = SquareRootSigmaPointFilter<RandomWalk<N>, QuadraticQuality
 template <int N>
 SquareRootUkf<N> make_filter(SquareRootFilterOptions options = {SigmaPointRefresh::reuse_propagated,
                                                                 SquareRootUpdate::joseph}) {
-  const nlohmann::json data = golden::load("filter_runs_1.4.5.json");
+  const nlohmann::json data = test_support::load("filter_runs_1.4.5.json");
   const nlohmann::json& run = data["runs"][4];
-  return SquareRootUkf<N>(golden::process_model<N>(run), golden::measurement_model<N>(run),
-                          MerweScaledSigmaPoints{0.1, 2.0, 0.0}, golden::vector<N>(run["x0"]),
-                          SquareMatrix<N>(golden::matrix<N, N>(run["P0"])), options);
+  return SquareRootUkf<N>(test_support::process_model<N>(run), test_support::measurement_model<N>(run),
+                          MerweScaledSigmaPoints{0.1, 2.0, 0.0}, test_support::vector<N>(run["x0"]),
+                          SquareMatrix<N>(test_support::matrix<N, N>(run["P0"])), options);
 }
 
 template <int N>

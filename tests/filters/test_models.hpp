@@ -10,7 +10,7 @@
 #include "twincal/core/evaluation_counter.hpp"
 #include "twincal/filters/quadratic_quality_measurement.hpp"
 
-namespace twincal::test_models {
+namespace twincal::test_support {
 
 /// h(x) = cᵀx with noise variance r.
 template <int N>
@@ -68,4 +68,4 @@ struct ExplodingWalk {
   [[nodiscard]] const SquareMatrix<N>& process_noise() const { return q; }
 };
 
-}  // namespace twincal::test_models
+}  // namespace twincal::test_support

@@ -17,10 +17,10 @@ namespace twincal {
 namespace {
 
 TEST(Discrepancy, MatchesScipyOnTheStoredPointSets) {
-  const auto& records = test::qmc_golden().at("discrepancy");
+  const auto& records = test_support::qmc_golden().at("discrepancy");
   ASSERT_EQ(records.size(), 9U);
   for (const auto& record : records) {
-    const MatrixX points = test::golden_points(record);
+    const MatrixX points = test_support::golden_points(record);
     const std::string set =
         record.at("set").get<std::string>() + ", d = " + std::to_string(points.rows());
     // SciPy returns CD², WD², MD² and the root of L2*². Each D² is a difference of terms of

@@ -24,10 +24,10 @@ MatrixX draw(Halton& halton, Index count) {
 }
 
 TEST(Halton, UnscrambledIsBitIdenticalToScipy) {
-  const auto& records = test::qmc_golden().at("halton");
+  const auto& records = test_support::qmc_golden().at("halton");
   ASSERT_EQ(records.size(), 3U);
   for (const auto& record : records) {
-    const MatrixX expected = test::golden_points(record);
+    const MatrixX expected = test_support::golden_points(record);
     Halton halton(expected.rows());
     const MatrixX points = draw(halton, expected.cols());
     for (Index c = 0; c < expected.cols(); ++c) {

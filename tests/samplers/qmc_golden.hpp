@@ -11,7 +11,7 @@
 
 #include "twincal/core/eigen.hpp"
 
-namespace twincal::test {
+namespace twincal::test_support {
 
 inline const nlohmann::json& qmc_golden() {
   static const nlohmann::json data = [] {
@@ -36,4 +36,4 @@ inline MatrixX golden_points(const nlohmann::json& record) {
   return points;
 }
 
-}  // namespace twincal::test
+}  // namespace twincal::test_support

@@ -59,10 +59,10 @@ void expect_stratified(const MatrixX& points, const std::string& what) {
 }
 
 TEST(Sobol, UnscrambledIsBitIdenticalToScipyInEveryStoredDimension) {
-  const auto& records = test::qmc_golden().at("sobol");
+  const auto& records = test_support::qmc_golden().at("sobol");
   ASSERT_EQ(records.size(), 9U);
   for (const auto& record : records) {
-    const MatrixX expected = test::golden_points(record);
+    const MatrixX expected = test_support::golden_points(record);
     Sobol sobol(expected.rows(), quiet());
     const MatrixX points = draw(sobol, expected.cols());
     for (Index c = 0; c < expected.cols(); ++c) {

@@ -14,7 +14,7 @@ namespace twincal {
 namespace {
 
 using json = nlohmann::json;
-using testing::TemporaryDatabase;
+using test_support::TemporaryDatabase;
 
 std::vector<std::string> csv_lines(const HistoryStore& store) {
   std::ostringstream out;
@@ -26,7 +26,7 @@ std::vector<std::string> csv_lines(const HistoryStore& store) {
 }
 
 ServeSession analytic_session(const std::string& controller, const TemporaryDatabase& database) {
-  return ServeSession::start(testing::analytic_options(controller, 2), database.get());
+  return ServeSession::start(test_support::analytic_options(controller, 2), database.get());
 }
 
 TEST(HistoryExport, WritesOneRowPerRequestWithEmptyFieldsWhileAwaitingTheObservation) {

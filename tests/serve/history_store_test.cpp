@@ -22,8 +22,8 @@ using ::testing::HasSubstr;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-using testing::edit_database;
-using testing::TemporaryDatabase;
+using test_support::edit_database;
+using test_support::TemporaryDatabase;
 
 // The bytes of a file.
 std::string file_bytes(const fs::path& path) {
@@ -193,7 +193,7 @@ TEST(HistoryStore, RefusesARowThatIsNotJsonEvenWithAMatchingChecksum) {
   const TemporaryDatabase path;
   write_three_requests(path.get());
   edit_database(path.get(), "UPDATE proposals SET control = '[0.5,' WHERE request_id = 2");
-  testing::reseal_history(path.get());
+  test_support::reseal_history(path.get());
   try {
     (void)HistoryStore::open_read_only(path.get()).records();
     FAIL() << "read a control that is not JSON";

@@ -30,9 +30,9 @@ namespace twincal {
 namespace {
 
 using nlohmann::json;
-using testing::analytic_options;
+using test_support::analytic_options;
 using ::testing::HasSubstr;
-using testing::TemporaryDatabase;
+using test_support::TemporaryDatabase;
 
 // A blocking TCP client of the loopback server, with a deadline on every read.
 class Client {

@@ -27,8 +27,8 @@ using ::testing::HasSubstr;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-using testing::analytic_options;
-using testing::TemporaryDatabase;
+using test_support::analytic_options;
+using test_support::TemporaryDatabase;
 
 json call(ServeSession& session, const json& request) {
   return json::parse(session.handle(request.dump()));
@@ -162,11 +162,11 @@ TEST(ServeSession, StoresASnapshotAtCheckpointAndShutdownAndChecksEveryOne) {
   EXPECT_EQ(verified.snapshots, 4);
 
   // A snapshot edited and sealed again: the full replay finds it.
-  testing::edit_database(database.get(),
+  test_support::edit_database(database.get(),
                          "UPDATE snapshots SET state = replace(state, '\"request_id\":6', "
                          "'\"request_id\":6,\"edited\":true') WHERE request_id = 6");
   EXPECT_THROW((void)ServeSession::check(database.get()), HistoryDamageError);
-  testing::reseal_history(database.get());
+  test_support::reseal_history(database.get());
   try {
     (void)ServeSession::check(database.get());
     FAIL() << "checked a history whose snapshot was edited";
@@ -185,10 +185,10 @@ TEST(ServeSession, RefusesASnapshotItCannotRestore) {
     drive(session, 0, 5);
   }
   // The last snapshot's filter state loses its covariance: refused, naming the snapshot.
-  testing::edit_database(database.get(),
+  test_support::edit_database(database.get(),
                          "UPDATE snapshots SET state = json_remove(state, '$.controller.filter') "
                          "WHERE request_id = 4");
-  testing::reseal_history(database.get());
+  test_support::reseal_history(database.get());
   try {
     (void)ServeSession::resume(database.get(), Durability::normal);
     FAIL() << "restored a snapshot without its filter";
@@ -436,7 +436,7 @@ TEST(ServeSession, ResumesScannedPartsFromTheirRecordedOptimumWithoutSearchingAg
   // The recorded u0 of request 2 moved by 1e-6: the row's checksum finds it; sealed again, a
   // resume that searched again would not notice, one that takes the record replays to other
   // controls and refuses the history.
-  testing::edit_database(database.get(),
+  test_support::edit_database(database.get(),
                          "UPDATE proposals SET assembly = json_set(assembly, '$.optimum[0]', "
                          "json_extract(assembly, '$.optimum[0]') + 1e-6) WHERE request_id = 2");
   try {
@@ -446,7 +446,7 @@ TEST(ServeSession, ResumesScannedPartsFromTheirRecordedOptimumWithoutSearchingAg
     EXPECT_EQ(error.argument(), "checksum");
     EXPECT_THAT(error.what(), HasSubstr("request 2: proposals.checksum is"));
   }
-  testing::reseal_history(database.get());
+  test_support::reseal_history(database.get());
   try {
     (void)ServeSession::resume(database.get(), Durability::normal);
     FAIL() << "resumed a history whose recorded optimum was edited and sealed again";
@@ -461,7 +461,7 @@ TEST(ServeSession, RefusesToResumeAHistoryThatDoesNotReplay) {
     ServeSession session = ServeSession::start(analytic_options("w=1"), database.get());
     drive(session, 0, 5);
   }
-  testing::edit_database(database.get(),
+  test_support::edit_database(database.get(),
                          "UPDATE observations SET quality = quality + 1e-9 WHERE request_id = 3");
   try {
     (void)ServeSession::resume(database.get());
@@ -469,7 +469,7 @@ TEST(ServeSession, RefusesToResumeAHistoryThatDoesNotReplay) {
   } catch (const HistoryDamageError& error) {
     EXPECT_THAT(error.what(), HasSubstr("request 3: observations.checksum is"));
   }
-  testing::reseal_history(database.get());
+  test_support::reseal_history(database.get());
   try {
     (void)ServeSession::resume(database.get());
     FAIL() << "resumed a tampered history sealed again";
@@ -486,10 +486,10 @@ TEST(ServeSession, RefusesAHistoryWhoseReportDoesNotReplay) {
     drive(session, 0, 4);
   }
   // z* of request 2's report, edited and sealed again: the controls replay, the report does not.
-  testing::edit_database(database.get(),
+  test_support::edit_database(database.get(),
                          "UPDATE proposals SET report = json_set(report, '$.optimal_quality', "
                          "json_extract(report, '$.optimal_quality') * 2) WHERE request_id = 2");
-  testing::reseal_history(database.get());
+  test_support::reseal_history(database.get());
   try {
     (void)ServeSession::resume(database.get(), Durability::normal);
     FAIL() << "resumed a history whose report was edited";
@@ -518,10 +518,10 @@ TEST(ServeSession, ChecksAHistoryWithoutWritingToIt) {
   EXPECT_TRUE(verified.pending);
   EXPECT_EQ(bytes(), before);
 
-  testing::edit_database(database.get(),
+  test_support::edit_database(database.get(),
                          "UPDATE observations SET quality = 0.5 WHERE request_id = 4");
   EXPECT_THROW((void)ServeSession::check(database.get()), HistoryDamageError);
-  testing::reseal_history(database.get());
+  test_support::reseal_history(database.get());
   EXPECT_THROW((void)ServeSession::check(database.get()), HistoryMismatchError);
 }
 

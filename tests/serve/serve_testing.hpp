@@ -12,7 +12,7 @@
 
 #include "twincal/serve/serve_session.hpp"
 
-namespace twincal::testing {
+namespace twincal::test_support {
 
 /// A path in the temporary directory, removed with SQLite's side files (-wal, -shm) afterwards.
 class TemporaryDatabase {
@@ -102,4 +102,4 @@ inline ServeOptions analytic_options(const std::string& controller, Index dimens
   return options;
 }
 
-}  // namespace twincal::testing
+}  // namespace twincal::test_support
