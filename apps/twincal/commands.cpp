@@ -52,15 +52,19 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr const char* config_options_help =
-    R"(  --config FILE.json     base config (docs/cli.md has every key); options below override it
-  --runs N               runs per controller (default 10)
-  --assemblies N         assemblies per episode (default 100: all, in a seeded random order)
-  --seed S               master seed of the runs (default 2023)
-  --twin-seed S          seed of the twin (default 2023)
-  --dimension D          locators of the analytic twin (default 3)
+// The options every study command reads into an ExperimentConfig; the defaults printed are the
+// config's own (ExperimentConfig{}), so that the help cannot disagree with what runs.
+std::string config_options_help() {
+  const ExperimentConfig defaults;
+  return fmt::format(
+      R"(  --config FILE.json     base config (docs/cli.md has every key); options below override it
+  --runs N               runs per controller (default {runs})
+  --assemblies N         assemblies per episode (default {assemblies}: all, in a seeded random order)
+  --seed S               master seed of the runs (default {seed})
+  --twin-seed S          seed of the twin (default {twin_seed})
+  --dimension D          locators of the analytic twin (default {dimension})
   --nonlinearity K       the analytic twin's: none (RMS-quadratic), contact, stiffening, kink
-  --strength S           the nonlinearity's strength (default 1; contact in [0, 1])
+  --strength S           the nonlinearity's strength (default {strength}; contact in [0, 1])
   --plant CASE           the plant is another FEM case than the twin (e.g. body-contact
                          behind --case body); default: the twin itself
   --plant-nonlinearity K the analytic plant's nonlinearity, which the twin lacks
@@ -75,7 +79,11 @@ constexpr const char* config_options_help =
   --twin-command "CMD"   the program of the external case (overrides external_twin.command
                          of --config, which describes the twin: docs/external.md)
   --twin-workers N       processes of the external twin (default 1; results do not depend on N)
-)";
+)",
+      fmt::arg("runs", defaults.runs), fmt::arg("assemblies", defaults.assemblies),
+      fmt::arg("seed", defaults.seed), fmt::arg("twin_seed", defaults.twin_seed),
+      fmt::arg("dimension", defaults.analytic_dimension), fmt::arg("strength", defaults.strength));
+}
 
 constexpr const char* execution_help =
     R"(  --out DIR              results directory (created; rerunning resumes it)
@@ -365,7 +373,7 @@ Runs one configuration: one twin case and locator set, its controllers, N runs.
   --locators SET         A | B | C | ABC | all | names or indices joined by commas (default A)
   --name NAME            group name in the results (default <case>/<locators>)
 {}{})",
-      config_options_help, execution_help);
+      config_options_help(), execution_help);
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help.c_str())) return 0;
   ExperimentConfig config = read_config(arguments);
@@ -392,7 +400,7 @@ Table 1.
 
   --case NAME            body | door | all (body and door; default) | analytic
 {}{})",
-      config_options_help, execution_help);
+      config_options_help(), execution_help);
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help.c_str())) return 0;
   ExperimentConfig base = read_config(arguments);
@@ -468,7 +476,7 @@ residual, diverged and lost fractions and Q-evaluations against the strength.
                          the paper's 2^(2+d) up to d = 8; 2^21 at d = 19 is infeasible)
                          (default controllers: baseline, default, w=1, per-component:w=1, active)
 {}{})",
-      config_options_help, execution_help);
+      config_options_help(), execution_help);
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help.c_str())) return 0;
   if (arguments.integer("dimension")) {
@@ -807,7 +815,7 @@ proposal and observation is in the database before its reply is sent; after a cr
   --controller LABEL     the controller (default active): any label of --controllers
   --run R                build the controller with the seeds of run R of `twincal run` (default 0)
 {})",
-      config_options_help);
+      config_options_help());
   Arguments arguments(args, {"help", "resume", "verify-all"});
   if (wants_help(arguments, help.c_str())) return 0;
   const auto database = arguments.text("db");

@@ -24,11 +24,15 @@
 #include "twincal/experiments/any_exploration_loss.hpp"
 #include "twincal/experiments/any_sampler.hpp"
 #include "twincal/experiments/experiment_choices.hpp"
+#include "twincal/experiments/experiment_config.hpp"
 
 namespace py = pybind11;
 
 namespace twincal::python {
 namespace {
+
+/// The seed a controller takes when none is given: the CLI's (ExperimentConfig::seed).
+const std::uint64_t default_seed = ExperimentConfig{}.seed;
 
 using Baseline = IndividualizedController<PythonTwin>;
 using Default = PaperDefaultController<PythonTwin>;
@@ -194,9 +198,10 @@ void bind_controllers(py::module_& module) {
                return Default(make_paper_filter(t, RandomStream(seed), settings));
              });
            }),
-           py::arg("twin"), py::kw_only(), py::arg("seed") = 2023,
-           py::arg("measurement_variance") = 1e-4, py::arg("process_variance") = 1e-3,
-           py::arg("initial_variance") = 1e-3);
+           py::arg("twin"), py::kw_only(), py::arg("seed") = default_seed,
+           py::arg("measurement_variance") = PaperSettings{}.measurement_variance,
+           py::arg("process_variance") = PaperSettings{}.process_variance,
+           py::arg("initial_variance") = PaperSettings{}.initial_variance);
 
   bind_controller<Lookahead>(
       module, "PaperController",
@@ -225,11 +230,14 @@ void bind_controllers(py::module_& module) {
                                 exploration_loss(exploration, weights, t));
              });
            }),
-           py::arg("twin"), py::kw_only(), py::arg("w") = 0.5, py::arg("seed") = 2023,
-           py::arg("candidates") = py::none(), py::arg("box_half_width") = 0.1,
+           py::arg("twin"), py::kw_only(), py::arg("w") = LookaheadOptions{}.w,
+           py::arg("seed") = default_seed, py::arg("candidates") = py::none(),
+           py::arg("box_half_width") = LookaheadOptions{}.box_half_width,
            py::arg("sampler") = "sobol", py::arg("exploration") = "trace",
-           py::arg("weights") = py::none(), py::arg("measurement_variance") = 1e-4,
-           py::arg("process_variance") = 1e-3, py::arg("initial_variance") = 1e-3,
+           py::arg("weights") = py::none(),
+           py::arg("measurement_variance") = PaperSettings{}.measurement_variance,
+           py::arg("process_variance") = PaperSettings{}.process_variance,
+           py::arg("initial_variance") = PaperSettings{}.initial_variance,
            "candidates: per assembly, default the paper's 2^(2+d).");
 
   bind_controller<PerComponent>(
@@ -249,10 +257,12 @@ void bind_controllers(py::module_& module) {
                return make_per_component_paper_controller(t, RandomStream(seed), options, settings);
              });
            }),
-           py::arg("twin"), py::kw_only(), py::arg("w") = 0.5, py::arg("seed") = 2023,
-           py::arg("candidates") = py::none(), py::arg("box_half_width") = 0.1,
-           py::arg("measurement_variance") = 1e-4, py::arg("process_variance") = 1e-3,
-           py::arg("initial_variance") = 1e-3);
+           py::arg("twin"), py::kw_only(), py::arg("w") = LookaheadOptions{}.w,
+           py::arg("seed") = default_seed, py::arg("candidates") = py::none(),
+           py::arg("box_half_width") = LookaheadOptions{}.box_half_width,
+           py::arg("measurement_variance") = PaperSettings{}.measurement_variance,
+           py::arg("process_variance") = PaperSettings{}.process_variance,
+           py::arg("initial_variance") = PaperSettings{}.initial_variance);
 
   bind_controller<Active>(
       module, "ActiveController",
@@ -268,8 +278,9 @@ void bind_controllers(py::module_& module) {
                return Active(t, RandomStream(seed), options);
              });
            }),
-           py::arg("twin"), py::kw_only(), py::arg("seed") = 2023,
-           py::arg("measurement_variance") = 1e-4, py::arg("initial_variance") = 1e-3);
+           py::arg("twin"), py::kw_only(), py::arg("seed") = default_seed,
+           py::arg("measurement_variance") = ActiveOptions{}.measurement_variance,
+           py::arg("initial_variance") = ActiveOptions{}.initial_variance);
 }
 
 }  // namespace twincal::python

@@ -69,7 +69,8 @@ void bind_twins(py::module_& module) {
       "twin's methods, and a controller given it calls it without Python in the loop. An "
       "assembly is an (upper, lower) pair or an index into `assemblies`.")
       .def(py::init(&make_native_twin), py::arg("case"), py::kw_only(), py::arg("locators") = "all",
-           py::arg("dimension") = 3, py::arg("seed") = 2023)
+           py::arg("dimension") = ExperimentConfig{}.analytic_dimension,
+           py::arg("seed") = ExperimentConfig{}.twin_seed)
       .def_property_readonly(
           "control_dimension", [](const NativeTwin& t) { return t.twin->control_dimension(); },
           "d: the number of controlled locators.")

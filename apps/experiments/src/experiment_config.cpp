@@ -25,7 +25,9 @@ std::string ExperimentConfig::group_name() const {
 double ExperimentConfig::filter_measurement_variance() const {
   if (measurement_variance) return *measurement_variance;
   // The paper's σz², Sec. 2.4; the door with contact is the door.
-  return twin_case == TwinCase::door || twin_case == TwinCase::door_contact ? 1e-6 : 1e-4;
+  return twin_case == TwinCase::door || twin_case == TwinCase::door_contact
+             ? PaperSettings::door_measurement_variance
+             : PaperSettings{}.measurement_variance;
 }
 
 Index ExperimentConfig::candidate_count(Index d) const {

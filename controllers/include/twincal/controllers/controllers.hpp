@@ -26,6 +26,7 @@
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/nominal_controller.hpp"
 #include "twincal/controllers/optimizer.hpp"
+#include "twincal/controllers/paper_settings.hpp"
 #include "twincal/controllers/per_component_controller.hpp"
 #include "twincal/controllers/presets.hpp"
 #include "twincal/controllers/probe_design.hpp"

@@ -22,6 +22,7 @@
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/log_det_loss.hpp"
 #include "twincal/controllers/lookahead_controller.hpp"
+#include "twincal/controllers/paper_settings.hpp"
 #include "twincal/controllers/per_component_controller.hpp"
 #include "twincal/controllers/trace_loss.hpp"
 #include "twincal/controllers/weighted_trace_loss.hpp"
@@ -72,30 +73,6 @@ using LogDetController = LookaheadController<PaperFilter<T, N>, Sobol, ExpectedQ
 template <Twin T, int N = Dynamic>
 using WeightedTraceController =
     LookaheadController<PaperFilter<T, N>, Sobol, ExpectedQuality, WeightedTraceLoss>;
-
-/// The paper's numbers (Sec. 2.4). The paper does not state the UKF's α, β, κ (it used
-/// filterpy, which requires them); α = 1, β = 2, κ = 0 put the points at ±sqrt(d)·σ with
-/// non-negative weights, which keeps P⁻ positive definite for every d.
-struct PaperSettings {
-  double process_variance = 1e-3;      ///< Σu = process_variance·I, eq. (5c)
-  double measurement_variance = 1e-4;  ///< σz², eq. (5b): 1e-4 car body, 1e-6 car door
-  double initial_variance = 1e-3;      ///< δû0 ~ N(0, initial_variance·I) and P0
-  double alpha = 1.0;                  ///< Merwe scaled points
-  double beta = 2.0;
-  double kappa = 0.0;
-
-  [[nodiscard]] std::optional<std::string> validate() const {
-    for (const auto& [name, value] :
-         {std::pair{"process_variance", process_variance},
-          std::pair{"measurement_variance", measurement_variance},
-          std::pair{"initial_variance", initial_variance}, std::pair{"alpha", alpha}}) {
-      if (!(value > 0.0) || !std::isfinite(value)) {
-        return fmt::format("{} is {}; it must be finite and > 0", name, value);
-      }
-    }
-    return std::nullopt;
-  }
-};
 
 /// A filter F (any sigma-point filter over RandomWalk<N> and QualityFeedback<T, N>) for `twin`
 /// (which must outlive it) with the paper's settings and the given scheme; δû0 is drawn from

@@ -13,6 +13,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "twincal/controllers/lookahead_options.hpp"
+#include "twincal/controllers/paper_settings.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/controller_spec.hpp"
 #include "twincal/experiments/experiment_choices.hpp"
@@ -64,10 +66,11 @@ struct ExperimentConfig {
   // --- controllers ---------------------------------------------------------------------------
   std::vector<ControllerSpec> controllers = ControllerSpec::paper();
   FilterScheme filter = FilterScheme::merwe;
-  /// Merwe's scaled points (α, β, κ); Julier's points use κ. The paper's are not stated.
-  double alpha = 1.0;
-  double beta = 2.0;
-  double kappa = 0.0;
+  /// Merwe's scaled points (α, β, κ); Julier's points use κ. The paper's are not stated
+  /// (PaperSettings says why these).
+  double alpha = PaperSettings{}.alpha;
+  double beta = PaperSettings{}.beta;
+  double kappa = PaperSettings{}.kappa;
   CandidateSampler sampler = CandidateSampler::sobol;
   ExplorationKind exploration = ExplorationKind::trace;
   /// Candidates per assembly, eq. (14); unset: the paper's 2^(2+d).
@@ -76,17 +79,18 @@ struct ExperimentConfig {
   /// can keep the paper's controllers where they are feasible; unset: no cap.
   std::optional<Index> candidate_cap{};
   /// Draw further batches until `candidates` survive U_t (the paper draws one).
-  bool keep_drawing = false;
+  bool keep_drawing = LookaheadOptions{}.keep_drawing;
   /// Half-width of U_t around u0 + δû, eq. (14).
-  double box_half_width = 0.1;
+  double box_half_width = LookaheadOptions{}.box_half_width;
 
   // --- filter and plant ------------------------------------------------------------------------
-  /// σz² the filter assumes, eq. (5b); unset: 1e-4 for body and analytic, 1e-6 for door.
+  /// σz² the filter assumes, eq. (5b); unset: PaperSettings' (1e-4 for body and analytic,
+  /// 1e-6 for door).
   std::optional<double> measurement_variance{};
   /// Σu = process_variance·I, eq. (5c).
-  double process_variance = 1e-3;
+  double process_variance = PaperSettings{}.process_variance;
   /// δû0 ~ N(0, initial_variance·I) and P0 = initial_variance·I.
-  double initial_variance = 1e-3;
+  double initial_variance = PaperSettings{}.initial_variance;
   /// Variance of the noise the plant adds to z_t (the paper measures without noise: 0).
   double plant_noise_variance = 0.0;
   /// Bouncing drift, eq. (15): |p| per assembly and the bound b on |δu*_i|.
