@@ -69,9 +69,10 @@ class CMakeBuild(build_ext):
         built = build_dir / "python" / "twincal" / module_name
         if not built.is_file():
             found = sorted(p.name for p in built.parent.glob("_twincal*"))
-            raise RuntimeError(f"{built} was not built (found: {found or 'nothing'}); rule: the "
-                               f"build directory's Python must be the one running pip "
-                               f"({sys.executable}, module suffix {module_name[8:]})")
+            raise RuntimeError(f"extension: value is {built}, not built (found: "
+                               f"{found or 'nothing'}); rule: the build directory's Python must "
+                               f"be the one running pip ({sys.executable}, module suffix "
+                               f"{module_name[8:]})")
         target = Path(self.get_ext_fullpath(ext.name))
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(built, target)
@@ -81,16 +82,17 @@ class CMakeBuild(build_ext):
         if reused:
             build_dir = Path(reused)
             if not build_dir.is_absolute():
-                raise RuntimeError(f"TWINCAL_CMAKE_BUILD_DIR is {reused}; rule: it must be an "
-                                   "absolute path (pip runs this script from a directory of "
+                raise RuntimeError(f"TWINCAL_CMAKE_BUILD_DIR: value is {reused}; rule: must be "
+                                   "an absolute path (pip runs this script from a directory of "
                                    "its choice)")
             if not (build_dir / "CMakeCache.txt").is_file():
-                raise RuntimeError(f"TWINCAL_CMAKE_BUILD_DIR is {build_dir}; rule: it must be a "
-                                   "configured CMake build directory (it has no CMakeCache.txt)")
+                raise RuntimeError(f"TWINCAL_CMAKE_BUILD_DIR: value is {build_dir}; rule: must be "
+                                   "a configured CMake build directory (it has no "
+                                   "CMakeCache.txt)")
             source = cache_value(build_dir, "CMAKE_HOME_DIRECTORY")
             if source is None or Path(source).resolve() != SOURCE_DIR:
-                raise RuntimeError(f"TWINCAL_CMAKE_BUILD_DIR is {build_dir}, a build of "
-                                   f"{source}; rule: it must build this checkout ({SOURCE_DIR})")
+                raise RuntimeError(f"TWINCAL_CMAKE_BUILD_DIR: value is {build_dir}, a build of "
+                                   f"{source}; rule: must build this checkout ({SOURCE_DIR})")
             return build_dir
         build_dir = PACKAGE_DIR / "build" / "cmake"
         options = [

@@ -43,7 +43,7 @@ with tempfile.TemporaryDirectory(prefix="twincal-pip-") as scratch:
     # A build directory given as a relative path is refused with the rule it broke.
     output = run(install, {**env, "TWINCAL_CMAKE_BUILD_DIR": "build"}, scratch,
                  expect_failure=True)
-    assert "TWINCAL_CMAKE_BUILD_DIR is build; rule: it must be an absolute path" in output, output
+    assert "TWINCAL_CMAKE_BUILD_DIR: value is build; rule: must be an absolute path" in output, output
 
     run(install, {**env, "TWINCAL_CMAKE_BUILD_DIR": str(build_dir)}, scratch)
     check = """

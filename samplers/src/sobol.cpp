@@ -54,11 +54,9 @@ void plain_directions(Index j, int bits, std::uint64_t* out, std::size_t stride)
 }  // namespace
 
 std::optional<std::string> SobolOptions::validate() const {
-  if (bits < 1 || bits > Sobol::max_bits) {
-    return fmt::format("bits is {}; it must lie in [1, {}] so that every point is an exact double",
-                       bits, Sobol::max_bits);
-  }
-  return std::nullopt;
+  return rule::check(
+      bits >= 1 && bits <= Sobol::max_bits, "bits", bits,
+      fmt::format("must lie in [1, {}] so that every point is an exact double", Sobol::max_bits));
 }
 
 Sobol::Sobol(Index dimension, SobolOptions options)

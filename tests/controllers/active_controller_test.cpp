@@ -43,7 +43,8 @@ TYPED_TEST_SUITE(ActiveControllerTest, ActiveControllers);
 // estimation error and checks every control against the twin's bounds widened by the largest
 // correction (ActiveOptions::max_offset_fraction of the box width).
 template <typename C>
-double track(C& controller, const test_support::AnalyticTwin& twin, const VectorX& offset, int steps) {
+double track(C& controller, const test_support::AnalyticTwin& twin, const VectorX& offset,
+             int steps) {
   const std::vector<AssemblyId> assemblies = twin.assemblies();
   for (int t = 0; t < steps; ++t) {
     const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
@@ -184,18 +185,19 @@ TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
 
 TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(ActiveOptions{.measurement_variance = -1.0}.validate(),
-            "measurement_variance is -1; it must be finite and > 0");
+            "measurement_variance: value is -1; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.max_offset_fraction = -0.1}.validate(),
-            "max_offset_fraction is -0.1; it must lie in [0, 1]");
+            "max_offset_fraction: value is -0.1; rule: must lie in [0, 1]");
   EXPECT_EQ(ActiveOptions{.surrogate = {.tolerance = 0.0}}.validate(),
-            "surrogate.tolerance is 0; it must be finite and > 0");
+            "surrogate.tolerance: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),
-            "relinearization_budget is -1; it must be finite and >= 0");
-  EXPECT_EQ(ActiveOptions{.audit_period = 1}.validate(),
-            "audit_period and audit_window are 1 and 10; rule: audit_period = 0 (no audit), or "
-            "audit_period >= 2 and audit_window >= 3");
+            "relinearization_budget: value is -1; rule: must be finite and >= 0");
+  EXPECT_EQ(
+      ActiveOptions{.audit_period = 1}.validate(),
+      "audit_period and audit_window: value is 1 and 10; rule: audit_period = 0 (no audit), or "
+      "audit_period >= 2 and audit_window >= 3");
   EXPECT_EQ(ActiveOptions{.audit_misfit = 0.5}.validate(),
-            "audit_misfit is 0.5; it must be finite and >= 1");
+            "audit_misfit: value is 0.5; rule: must be finite and >= 1");
   const test_support::AnalyticTwin twin = test_support::make_twin(2);
   EXPECT_THROW((ActiveController<test_support::AnalyticTwin, Dynamic>(
                    twin, RandomStream(1), ActiveOptions{.max_probe_fraction = 2.0})),

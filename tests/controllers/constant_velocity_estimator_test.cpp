@@ -362,14 +362,13 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
   ConstantVelocityOptions inverted;
   inverted.change_window = 3;
   inverted.change_lag = 2;
-  EXPECT_EQ(inverted.validate(),
-            "change_window and change_lag are 3 and 2; rule: 1 <= change_window <= change_lag");
+  EXPECT_EQ(inverted.validate(), "change_lag: value is 2; rule: must be >= change_window = 3");
   EXPECT_EQ(ConstantVelocityOptions{.initial_position_fraction = 0.6}.validate(),
-            "initial_position_fraction is 0.6; rule: finite, > 0 and <= position_fraction = 0.5");
+            "initial_position_fraction: value is 0.6; rule: must be <= position_fraction = 0.5");
   EXPECT_EQ(ConstantVelocityOptions{.misfit_window = 2}.validate(),
-            "misfit_window is 2; rule: 0 (the gate in units of σz alone) or >= 3");
+            "misfit_window: value is 2; rule: 0 (the gate in units of σz alone) or >= 3");
   EXPECT_EQ(ConstantVelocityOptions{.max_history = 4}.validate(),
-            "max_history is 4; rule: must be > change_lag = 6");
+            "max_history: value is 4; rule: must be > change_lag = 6");
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d(2.0, 0.0, 2.0), 1e-4),
                InvalidArgumentError);
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d::Constant(2.0), 0.0),

@@ -185,13 +185,13 @@ TEST(LookaheadController, RejectsBadOptionsAndAMismatchedSampler) {
   using C = SobolController<F>;
   EXPECT_THAT([&] { C(filter, Sobol(2), {.w = 1.5}); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "LookaheadOptions: w is 1.5; it must lie in [0, 1]"));
+                  "LookaheadOptions: w: value is 1.5; rule: must lie in [0, 1]"));
   EXPECT_THAT([&] { C(filter, Sobol(2), {.box_half_width = 0.0}); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "LookaheadOptions: box_half_width is 0; it must be finite and > 0"));
+                  "LookaheadOptions: box_half_width: value is 0; rule: must be finite and > 0"));
   EXPECT_THAT([&] { C(filter, Sobol(2), {.candidates = 0}); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "LookaheadOptions: candidates is 0; it must be >= 1 (unset: 2^(2+d))"));
+                  "LookaheadOptions: candidates: value is 0; rule: must be >= 1 (unset: 2^(2+d))"));
   EXPECT_THAT([&] { C(filter, Sobol(3)); },
               ::testing::ThrowsMessage<DimensionMismatchError>(
                   "sampler.dimension(): size is 3; rule: must equal 2"));
@@ -243,8 +243,8 @@ void expect_tracking(const TrackingErrors& errors) {
 
 template <typename F>
 class LookaheadControllerFilters : public ::testing::Test {};
-using Filters = ::testing::Types<test_support::Ukf<1>, test_support::Ckf<1>, test_support::SquareRootUkf<1>,
-                                 test_support::Ukf<Dynamic>>;
+using Filters = ::testing::Types<test_support::Ukf<1>, test_support::Ckf<1>,
+                                 test_support::SquareRootUkf<1>, test_support::Ukf<Dynamic>>;
 TYPED_TEST_SUITE(LookaheadControllerFilters, Filters);
 
 TYPED_TEST(LookaheadControllerFilters, TracksASlowDriftWithoutDivergingForOneLocator) {

@@ -100,16 +100,17 @@ TEST(NloptOptimizer, RejectsInconsistentBoundsAndStart) {
 
 TEST(NloptOptimizerOptions, ValidateNamesTheField) {
   EXPECT_EQ(NloptOptimizerOptions{}.validate(), std::nullopt);
-  EXPECT_EQ(NloptOptimizerOptions{.global_algorithm = NLOPT_LN_BOBYQA}.validate(),
-            "global_algorithm is LN_BOBYQA; it must be a derivative-free global (GN_) one");
+  EXPECT_EQ(
+      NloptOptimizerOptions{.global_algorithm = NLOPT_LN_BOBYQA}.validate(),
+      "global_algorithm: value is LN_BOBYQA; rule: must be a derivative-free global (GN_) one");
   EXPECT_EQ(NloptOptimizerOptions{.local_algorithm = NLOPT_LD_LBFGS}.validate(),
-            "local_algorithm is LD_LBFGS; it must be a derivative-free local (LN_) one");
+            "local_algorithm: value is LD_LBFGS; rule: must be a derivative-free local (LN_) one");
   EXPECT_EQ((NloptOptimizerOptions{.global_evaluations = 0, .local_evaluations = 0}.validate()),
-            "global_evaluations and local_evaluations are both 0; at least one phase must run");
+            "global_evaluations and local_evaluations: value is 0 and 0; rule: at least one "
+            "phase must run");
   EXPECT_THAT([] { NloptOptimizer{{.x_tolerance = -1.0}}; },
               ThrowsMessage<InvalidArgumentError>(
-                  "NloptOptimizerOptions: x_tolerance is -1 and f_tolerance is 0; both must be "
-                  ">= 0"));
+                  "NloptOptimizerOptions: x_tolerance: value is -1; rule: must be >= 0"));
 }
 
 }  // namespace

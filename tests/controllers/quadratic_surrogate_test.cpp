@@ -76,9 +76,9 @@ TEST(QuadraticSurrogate, ItsCheckRejectsATwinThatIsNotQuadratic) {
 
 TEST(QuadraticSurrogate, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(QuadraticSurrogateOptions{.step_fraction = 0.0}.validate(),
-            "step_fraction is 0; it must lie in (0, 0.5]");
+            "step_fraction: value is 0; rule: must lie in (0, 0.5]");
   EXPECT_EQ(QuadraticSurrogateOptions{.hessian_refresh = 0}.validate(),
-            "hessian_refresh is 0; it must be >= 1");
+            "hessian_refresh: value is 0; rule: must be >= 1");
 }
 
 }  // namespace

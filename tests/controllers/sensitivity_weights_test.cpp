@@ -31,7 +31,7 @@ TEST(SensitivityWeights, RejectBadInput) {
                   "assemblies: is empty; rule: at least one assembly is needed"));
   EXPECT_THAT([&] { (void)sensitivity_weights(optimum, twin.assemblies(), {.step = 0.0}); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "SensitivityOptions: step is 0; it must be finite and > 0"));
+                  "SensitivityOptions: step: value is 0; rule: must be finite and > 0"));
 }
 
 }  // namespace

@@ -239,16 +239,16 @@ TEST(CholeskyInto, RunTimeSizesOnEitherSideOfTheFixedSizeBoundFactorAlike) {
 TEST(CholeskyOptions, ValidateNamesTheField) {
   EXPECT_EQ(CholeskyOptions{}.validate(), std::nullopt);
   EXPECT_EQ(CholeskyOptions{.jitter_initial = 0.0}.validate(),
-            "jitter_initial is 0; it must be finite and > 0");
+            "jitter_initial: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(CholeskyOptions{.jitter_growth = 1.0}.validate(),
-            "jitter_growth is 1; it must be finite and > 1");
+            "jitter_growth: value is 1; rule: must be finite and > 1");
   EXPECT_EQ(CholeskyOptions{.jitter_attempts = 0}.validate(),
-            "jitter_attempts is 0; it must be >= 1");
+            "jitter_attempts: value is 0; rule: must be >= 1");
   EXPECT_EQ(CholeskyOptions{.eigenvalue_floor = 1.0}.validate(),
-            "eigenvalue_floor is 1; it must lie in (0, 1)");
+            "eigenvalue_floor: value is 1; rule: must lie in (0, 1)");
   EXPECT_THAT([] { (void)cholesky(Eigen::Matrix2d::Identity(), {.jitter_attempts = 0}); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "CholeskyOptions: jitter_attempts is 0; it must be >= 1"));
+                  "CholeskyOptions: jitter_attempts: value is 0; rule: must be >= 1"));
 }
 
 TEST(CovarianceRepair, HasReadableNames) {

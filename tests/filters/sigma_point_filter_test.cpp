@@ -25,10 +25,10 @@ using ::testing::HasSubstr;
 
 template <int N, typename Scheme>
 test_support::Agreement replay_standard(const std::string& file, const nlohmann::json& run,
-                                  const Scheme& scheme) {
+                                        const Scheme& scheme) {
   using Filter = SigmaPointFilter<RandomWalk<N>, QuadraticQualityMeasurement<N>, Scheme>;
-  Filter filter(test_support::process_model<N>(run), test_support::measurement_model<N>(run), scheme,
-                test_support::vector<N>(run["x0"]), test_support::matrix<N, N>(run["P0"]),
+  Filter filter(test_support::process_model<N>(run), test_support::measurement_model<N>(run),
+                scheme, test_support::vector<N>(run["x0"]), test_support::matrix<N, N>(run["P0"]),
                 SigmaPointFilterOptions::filterpy(test_support::refresh_of(file, run)));
   return test_support::replay(filter, run);
 }
@@ -320,9 +320,10 @@ TEST(SigmaPointFilter, ConstructorNamesWhatIsWrong) {
                   HasSubstr("initial_covariance: is 3x3; rule: must be 2x2")));
   SigmaPointFilterOptions bad;
   bad.factorization.jitter_growth = 0.5;
-  EXPECT_THAT([&] { (void)make(MatrixX::Identity(2, 2), bad); },
-              ::testing::ThrowsMessage<InvalidArgumentError>(HasSubstr(
-                  "options: factorization.jitter_growth is 0.5; it must be finite and > 1")));
+  EXPECT_THAT(
+      [&] { (void)make(MatrixX::Identity(2, 2), bad); },
+      ::testing::ThrowsMessage<InvalidArgumentError>(HasSubstr(
+          "options: factorization.jitter_growth: value is 0.5; rule: must be finite and > 1")));
   EXPECT_THAT(
       [&] {
         (void)Ukf<Dynamic>(walk, quality, MerweScaledSigmaPoints(1.0, 2.0, -2.0), x0,

@@ -129,7 +129,7 @@ TEST(Candidates, RejectsMismatchesBeforeDrawing) {
     (void)draw_candidates(right, transform, box, {.count = 0});
     FAIL();
   } catch (const InvalidArgumentError& e) {
-    EXPECT_EQ(std::string(e.what()), "options: count is 0; it must be >= 1");
+    EXPECT_EQ(std::string(e.what()), "options: count: value is 0; rule: must be >= 1");
   }
   const auto small_box = BoxSet<Dynamic>::cube(VectorX::Zero(2), 1.0);
   EXPECT_THROW((void)draw_candidates(right, transform, small_box), DimensionMismatchError);

@@ -154,7 +154,7 @@ TYPED_TEST(GaussianTransformTest, RejectsBadArgumentsWithTheirValues) {
     const Transform t(TestFixture::mean(), TestFixture::covariance(), {.clip = 0.5});
     FAIL();
   } catch (const InvalidArgumentError& e) {
-    EXPECT_EQ(std::string(e.what()), "options: clip is 0.5; it must lie in (0, 0.5)");
+    EXPECT_EQ(std::string(e.what()), "options: clip: value is 0.5; rule: must lie in (0, 0.5)");
   }
 
   const Transform t(TestFixture::mean(), TestFixture::covariance());

@@ -277,9 +277,10 @@ TEST(Sobol, RejectsBadArgumentsWithoutChangingState) {
     Sobol bad(2, {.bits = 53});
     FAIL();
   } catch (const InvalidArgumentError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "options: bits is 53; it must lie in [1, 52] so that every point is an exact "
-              "double");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "options: bits: value is 53; rule: must lie in [1, 52] so that every point is an exact "
+        "double");
   }
 
   Sobol sobol(3, {.bits = 4, .balance = BalanceCheck::refuse});

@@ -13,6 +13,7 @@
 #include "twincal/controllers/constant_velocity_options.hpp"
 #include "twincal/controllers/quadratic_surrogate.hpp"
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
@@ -84,57 +85,32 @@ struct ActiveOptions {
   double audit_misfit = 4.0;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
-    if (!positive(measurement_variance)) {
-      return fmt::format("measurement_variance is {}; it must be finite and > 0",
-                         measurement_variance);
-    }
-    if (!positive(initial_variance)) {
-      return fmt::format("initial_variance is {}; it must be finite and > 0", initial_variance);
-    }
-    if (!positive(min_process_variance) || !positive(max_process_variance) ||
-        !(min_process_variance <= process_variance && process_variance <= max_process_variance)) {
-      return fmt::format(
-          "process_variance is {} with bounds [{}, {}]; rule: 0 < min <= process_variance <= max "
-          "< inf",
-          process_variance, min_process_variance, max_process_variance);
-    }
-    if (!(adaptation_rate >= 0.0 && adaptation_rate <= 1.0)) {
-      return fmt::format("adaptation_rate is {}; it must lie in [0, 1]", adaptation_rate);
-    }
-    if (!(max_horizon >= 1.0) || !std::isfinite(max_horizon)) {
-      return fmt::format("max_horizon is {}; it must be finite and >= 1", max_horizon);
-    }
-    if (!(max_probe_fraction > 0.0 && max_probe_fraction <= 1.0)) {
-      return fmt::format("max_probe_fraction is {}; it must lie in (0, 1]", max_probe_fraction);
-    }
-    if (!(max_offset_fraction >= 0.0 && max_offset_fraction <= 1.0)) {
-      return fmt::format("max_offset_fraction is {}; it must lie in [0, 1]", max_offset_fraction);
-    }
-    if (!(innovation_gate > 0.0) || !std::isfinite(innovation_gate)) {
-      return fmt::format("innovation_gate is {}; it must be finite and > 0", innovation_gate);
-    }
-    if (!positive(covariance_floor) || !positive(covariance_ceiling_fraction)) {
-      return fmt::format(
-          "covariance_floor and covariance_ceiling_fraction are {} and {}; both must be finite "
-          "and > 0",
-          covariance_floor, covariance_ceiling_fraction);
-    }
-    if (quadratic_retry < 1) {
-      return fmt::format("quadratic_retry is {}; it must be >= 1", quadratic_retry);
-    }
-    if (!(relinearization_budget >= 0.0) || !std::isfinite(relinearization_budget)) {
-      return fmt::format("relinearization_budget is {}; it must be finite and >= 0",
-                         relinearization_budget);
-    }
-    if (audit_period < 0 || (audit_period > 0 && (audit_period < 2 || audit_window < 3))) {
-      return fmt::format(
-          "audit_period and audit_window are {} and {}; rule: audit_period = 0 (no audit), or "
-          "audit_period >= 2 and audit_window >= 3",
-          audit_period, audit_window);
-    }
-    if (!(audit_misfit >= 1.0) || !std::isfinite(audit_misfit)) {
-      return fmt::format("audit_misfit is {}; it must be finite and >= 1", audit_misfit);
+    if (auto problem = first_problem(
+            {rule::positive_finite("measurement_variance", measurement_variance),
+             rule::positive_finite("initial_variance", initial_variance),
+             rule::positive_finite("min_process_variance", min_process_variance),
+             rule::positive_finite("max_process_variance", max_process_variance),
+             rule::check(min_process_variance <= process_variance &&
+                             process_variance <= max_process_variance,
+                         "process_variance", process_variance,
+                         fmt::format("must lie in [min_process_variance, max_process_variance] = "
+                                     "[{}, {}]",
+                                     min_process_variance, max_process_variance)),
+             rule::in_closed("adaptation_rate", adaptation_rate, 0.0, 1.0),
+             rule::finite_at_least("max_horizon", max_horizon, 1.0),
+             rule::in_left_open("max_probe_fraction", max_probe_fraction, 0.0, 1.0),
+             rule::in_closed("max_offset_fraction", max_offset_fraction, 0.0, 1.0),
+             rule::positive_finite("innovation_gate", innovation_gate),
+             rule::positive_finite("covariance_floor", covariance_floor),
+             rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
+             rule::at_least("quadratic_retry", quadratic_retry, Index{1}),
+             rule::non_negative_finite("relinearization_budget", relinearization_budget),
+             rule::check(audit_period == 0 || (audit_period >= 2 && audit_window >= 3),
+                         "audit_period and audit_window",
+                         fmt::format("{} and {}", audit_period, audit_window),
+                         "audit_period = 0 (no audit), or audit_period >= 2 and audit_window >= 3"),
+             rule::finite_at_least("audit_misfit", audit_misfit, 1.0)})) {
+      return problem;
     }
     if (auto problem = surrogate.validate()) return "surrogate." + *problem;
     if (auto problem = trajectory.validate()) return "trajectory." + *problem;

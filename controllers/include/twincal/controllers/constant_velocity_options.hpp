@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
@@ -64,50 +65,27 @@ struct ConstantVelocityOptions {
   double step_tolerance = 1e-10;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
-    if (!positive(position_fraction) || !positive(velocity_fraction)) {
-      return fmt::format(
-          "position_fraction and velocity_fraction are {} and {}; both must be finite and > 0",
-          position_fraction, velocity_fraction);
-    }
-    if (!positive(initial_position_fraction) || !(initial_position_fraction <= position_fraction)) {
-      return fmt::format(
-          "initial_position_fraction is {}; rule: finite, > 0 and <= position_fraction = {}",
-          initial_position_fraction, position_fraction);
-    }
-    if (!positive(change_gate)) {
-      return fmt::format("change_gate is {}; it must be finite and > 0", change_gate);
-    }
-    if (change_window < 1 || change_lag < change_window) {
-      return fmt::format(
-          "change_window and change_lag are {} and {}; rule: 1 <= change_window <= change_lag",
-          change_window, change_lag);
-    }
-    if (!(change_position_spread >= 0.0) || !(change_velocity_spread >= 0.0) ||
-        !positive(change_velocity_floor_fraction) || !std::isfinite(change_position_spread) ||
-        !std::isfinite(change_velocity_spread)) {
-      return fmt::format(
-          "change_position_spread, change_velocity_spread and change_velocity_floor_fraction are "
-          "{}, {} and {}; rule: finite, the spreads >= 0 and the floor > 0",
-          change_position_spread, change_velocity_spread, change_velocity_floor_fraction);
-    }
-    if (!(significance >= 0.0) || !std::isfinite(significance)) {
-      return fmt::format("significance is {}; it must be finite and >= 0", significance);
-    }
-    if (misfit_window < 0 || misfit_window == 1 || misfit_window == 2) {
-      return fmt::format("misfit_window is {}; rule: 0 (the gate in units of σz alone) or >= 3",
-                         misfit_window);
-    }
-    if (max_history <= change_lag) {
-      return fmt::format("max_history is {}; rule: must be > change_lag = {}", max_history,
-                         change_lag);
-    }
-    if (max_iterations < 1 || !positive(step_tolerance)) {
-      return fmt::format(
-          "max_iterations and step_tolerance are {} and {}; rule: >= 1 and finite > 0",
-          max_iterations, step_tolerance);
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::positive_finite("position_fraction", position_fraction),
+         rule::positive_finite("velocity_fraction", velocity_fraction),
+         rule::positive_finite("initial_position_fraction", initial_position_fraction),
+         rule::check(initial_position_fraction <= position_fraction, "initial_position_fraction",
+                     initial_position_fraction,
+                     fmt::format("must be <= position_fraction = {}", position_fraction)),
+         rule::positive_finite("change_gate", change_gate),
+         rule::at_least("change_window", change_window, Index{1}),
+         rule::check(change_lag >= change_window, "change_lag", change_lag,
+                     fmt::format("must be >= change_window = {}", change_window)),
+         rule::non_negative_finite("change_position_spread", change_position_spread),
+         rule::non_negative_finite("change_velocity_spread", change_velocity_spread),
+         rule::positive_finite("change_velocity_floor_fraction", change_velocity_floor_fraction),
+         rule::non_negative_finite("significance", significance),
+         rule::check(misfit_window == 0 || misfit_window >= 3, "misfit_window", misfit_window,
+                     "0 (the gate in units of σz alone) or >= 3"),
+         rule::check(max_history > change_lag, "max_history", max_history,
+                     fmt::format("must be > change_lag = {}", change_lag)),
+         rule::at_least("max_iterations", max_iterations, 1),
+         rule::positive_finite("step_tolerance", step_tolerance)});
   }
 };
 

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
 #include "twincal/samplers/gaussian_transform.hpp"
 
 namespace twincal {
@@ -34,15 +35,16 @@ struct LookaheadOptions {
   }
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (!(w >= 0.0 && w <= 1.0)) return fmt::format("w is {}; it must lie in [0, 1]", w);
-    if (!(box_half_width > 0.0) || !std::isfinite(box_half_width)) {
-      return fmt::format("box_half_width is {}; it must be finite and > 0", box_half_width);
+    if (auto problem =
+            first_problem({rule::in_closed("w", w, 0.0, 1.0),
+                           rule::positive_finite("box_half_width", box_half_width),
+                           rule::check(!candidates || *candidates >= 1, "candidates",
+                                       candidates.value_or(0), "must be >= 1 (unset: 2^(2+d))"),
+                           rule::at_least("max_batches", max_batches, Index{1})})) {
+      return problem;
     }
-    if (candidates && *candidates < 1) {
-      return fmt::format("candidates is {}; it must be >= 1 (unset: 2^(2+d))", *candidates);
-    }
-    if (max_batches < 1) return fmt::format("max_batches is {}; it must be >= 1", max_batches);
-    return transform.validate();
+    if (auto problem = transform.validate()) return "transform." + *problem;
+    return std::nullopt;
   }
 };
 

@@ -42,22 +42,16 @@ struct NloptOptimizerOptions {
   [[nodiscard]] std::optional<std::string> validate() const {
     const std::string_view global = nlopt_algorithm_to_string(global_algorithm);
     const std::string_view local = nlopt_algorithm_to_string(local_algorithm);
-    if (!global.starts_with("GN_")) {
-      return fmt::format("global_algorithm is {}; it must be a derivative-free global (GN_) one",
-                         global);
-    }
-    if (!local.starts_with("LN_")) {
-      return fmt::format("local_algorithm is {}; it must be a derivative-free local (LN_) one",
-                         local);
-    }
-    if (global_evaluations == 0 && local_evaluations == 0) {
-      return "global_evaluations and local_evaluations are both 0; at least one phase must run";
-    }
-    if (!(x_tolerance >= 0.0) || !(f_tolerance >= 0.0)) {
-      return fmt::format("x_tolerance is {} and f_tolerance is {}; both must be >= 0", x_tolerance,
-                         f_tolerance);
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::check(global.starts_with("GN_"), "global_algorithm", global,
+                     "must be a derivative-free global (GN_) one"),
+         rule::check(local.starts_with("LN_"), "local_algorithm", local,
+                     "must be a derivative-free local (LN_) one"),
+         rule::check(global_evaluations > 0 || local_evaluations > 0,
+                     "global_evaluations and local_evaluations", "0 and 0",
+                     "at least one phase must run"),
+         rule::check(x_tolerance >= 0.0, "x_tolerance", x_tolerance, "must be >= 0"),
+         rule::check(f_tolerance >= 0.0, "f_tolerance", f_tolerance, "must be >= 0")});
   }
 };
 

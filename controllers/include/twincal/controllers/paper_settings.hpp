@@ -4,12 +4,10 @@
 /// written; the presets, the experiments' config, the active controller and the Python
 /// bindings take theirs from here.
 
-#include <cmath>
 #include <optional>
 #include <string>
-#include <utility>
 
-#include <fmt/format.h>
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
@@ -27,15 +25,10 @@ struct PaperSettings {
   static constexpr double door_measurement_variance = 1e-6;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    for (const auto& [name, value] :
-         {std::pair{"process_variance", process_variance},
-          std::pair{"measurement_variance", measurement_variance},
-          std::pair{"initial_variance", initial_variance}, std::pair{"alpha", alpha}}) {
-      if (!(value > 0.0) || !std::isfinite(value)) {
-        return fmt::format("{} is {}; it must be finite and > 0", name, value);
-      }
-    }
-    return std::nullopt;
+    return first_problem({rule::positive_finite("process_variance", process_variance),
+                          rule::positive_finite("measurement_variance", measurement_variance),
+                          rule::positive_finite("initial_variance", initial_variance),
+                          rule::positive_finite("alpha", alpha)});
   }
 };
 

@@ -43,16 +43,9 @@ struct QuadraticSurrogateOptions {
   double tolerance = 1e-3;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (!(step_fraction > 0.0 && step_fraction <= 0.5)) {
-      return fmt::format("step_fraction is {}; it must lie in (0, 0.5]", step_fraction);
-    }
-    if (hessian_refresh < 1) {
-      return fmt::format("hessian_refresh is {}; it must be >= 1", hessian_refresh);
-    }
-    if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
-      return fmt::format("tolerance is {}; it must be finite and > 0", tolerance);
-    }
-    return std::nullopt;
+    return first_problem({rule::in_left_open("step_fraction", step_fraction, 0.0, 0.5),
+                          rule::at_least("hessian_refresh", hessian_refresh, Index{1}),
+                          rule::positive_finite("tolerance", tolerance)});
   }
 };
 

@@ -33,13 +33,8 @@ struct SensitivityOptions {
   double floor = 1e-6;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (!(step > 0.0) || !std::isfinite(step)) {
-      return fmt::format("step is {}; it must be finite and > 0", step);
-    }
-    if (!(floor >= 0.0 && floor < 1.0)) {
-      return fmt::format("floor is {}; it must lie in [0, 1)", floor);
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::positive_finite("step", step), rule::in_right_open("floor", floor, 0.0, 1.0)});
   }
 };
 

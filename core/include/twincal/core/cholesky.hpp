@@ -62,19 +62,10 @@ struct CholeskyOptions {
   double eigenvalue_floor = 1e-12;  ///< nearest_pd: smallest kept eigenvalue relative to λ_max
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (!(jitter_initial > 0.0) || !std::isfinite(jitter_initial)) {
-      return fmt::format("jitter_initial is {}; it must be finite and > 0", jitter_initial);
-    }
-    if (!(jitter_growth > 1.0) || !std::isfinite(jitter_growth)) {
-      return fmt::format("jitter_growth is {}; it must be finite and > 1", jitter_growth);
-    }
-    if (jitter_attempts < 1) {
-      return fmt::format("jitter_attempts is {}; it must be >= 1", jitter_attempts);
-    }
-    if (!(eigenvalue_floor > 0.0 && eigenvalue_floor < 1.0)) {
-      return fmt::format("eigenvalue_floor is {}; it must lie in (0, 1)", eigenvalue_floor);
-    }
-    return std::nullopt;
+    return first_problem({rule::positive_finite("jitter_initial", jitter_initial),
+                          rule::finite_above("jitter_growth", jitter_growth, 1.0),
+                          rule::at_least("jitter_attempts", jitter_attempts, 1),
+                          rule::in_open("eigenvalue_floor", eigenvalue_floor, 0.0, 1.0)});
   }
 };
 

@@ -3,8 +3,20 @@
 /// Options are aggregates with defaults and a `validate()` that returns nothing when they are
 /// consistent and otherwise one sentence saying which field broke which rule (Ceres style).
 /// Classes taking options call `require_valid` in their constructor.
+///
+/// A validate() body is a list of rules, one line each, in one message format:
+///
+///     return first_problem({rule::positive_finite("step", step),
+///                           rule::in_closed("w", w, 0.0, 1.0),
+///                           rule::at_least("count", count, Index{1})});
+///
+/// Each rule returns nothing when it holds, otherwise "<field>: value is <v>; rule: <rule>". A
+/// rule that relates several fields, or that no helper states, is written out in the same
+/// format ("<fields>: values are …; rule: …").
 
+#include <cmath>
 #include <concepts>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -20,6 +32,88 @@ template <typename T>
 concept ValidatableOptions = requires(const T& options) {
   { options.validate() } -> std::same_as<std::optional<std::string>>;
 };
+
+/// The first problem among `rules`, in their order; nothing when every rule holds.
+[[nodiscard]] inline std::optional<std::string> first_problem(
+    std::initializer_list<std::optional<std::string>> rules) {
+  for (const std::optional<std::string>& problem : rules) {
+    if (problem) return problem;
+  }
+  return std::nullopt;
+}
+
+/// The rules of option fields, in one message format (see the file comment). NaN breaks every
+/// rule on doubles.
+namespace rule {
+
+/// "<field>: value is <value>; rule: <rule>" unless `holds`.
+template <typename T>
+[[nodiscard]] std::optional<std::string> check(bool holds, std::string_view field, const T& value,
+                                               std::string_view rule) {
+  if (holds) return std::nullopt;
+  return fmt::format("{}: value is {}; rule: {}", field, value, rule);
+}
+
+/// value finite and > 0.
+[[nodiscard]] inline std::optional<std::string> positive_finite(std::string_view field,
+                                                                double value) {
+  return check(std::isfinite(value) && value > 0.0, field, value, "must be finite and > 0");
+}
+
+/// value finite and >= 0.
+[[nodiscard]] inline std::optional<std::string> non_negative_finite(std::string_view field,
+                                                                    double value) {
+  return check(std::isfinite(value) && value >= 0.0, field, value, "must be finite and >= 0");
+}
+
+/// value finite and > bound.
+[[nodiscard]] inline std::optional<std::string> finite_above(std::string_view field, double value,
+                                                             double bound) {
+  return check(std::isfinite(value) && value > bound, field, value,
+               fmt::format("must be finite and > {}", bound));
+}
+
+/// value finite and >= bound.
+[[nodiscard]] inline std::optional<std::string> finite_at_least(std::string_view field,
+                                                                double value, double bound) {
+  return check(std::isfinite(value) && value >= bound, field, value,
+               fmt::format("must be finite and >= {}", bound));
+}
+
+/// lo <= value <= hi.
+[[nodiscard]] inline std::optional<std::string> in_closed(std::string_view field, double value,
+                                                          double lo, double hi) {
+  return check(value >= lo && value <= hi, field, value,
+               fmt::format("must lie in [{}, {}]", lo, hi));
+}
+
+/// lo < value <= hi.
+[[nodiscard]] inline std::optional<std::string> in_left_open(std::string_view field, double value,
+                                                             double lo, double hi) {
+  return check(value > lo && value <= hi, field, value,
+               fmt::format("must lie in ({}, {}]", lo, hi));
+}
+
+/// lo <= value < hi.
+[[nodiscard]] inline std::optional<std::string> in_right_open(std::string_view field, double value,
+                                                              double lo, double hi) {
+  return check(value >= lo && value < hi, field, value,
+               fmt::format("must lie in [{}, {})", lo, hi));
+}
+
+/// lo < value < hi.
+[[nodiscard]] inline std::optional<std::string> in_open(std::string_view field, double value,
+                                                        double lo, double hi) {
+  return check(value > lo && value < hi, field, value, fmt::format("must lie in ({}, {})", lo, hi));
+}
+
+/// An integer value >= least.
+template <std::integral I>
+[[nodiscard]] std::optional<std::string> at_least(std::string_view field, I value, I least) {
+  return check(value >= least, field, value, fmt::format("must be >= {}", least));
+}
+
+}  // namespace rule
 
 /// Throws InvalidArgumentError("<name>: <sentence>") when `options.validate()` reports a problem.
 template <ValidatableOptions Options>

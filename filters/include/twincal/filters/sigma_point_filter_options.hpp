@@ -61,9 +61,10 @@ struct SigmaPointFilterOptions {
   }
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (refresh != SigmaPointRefresh::redraw && refresh != SigmaPointRefresh::reuse_propagated) {
-      return fmt::format("refresh is {}; it must be redraw or reuse_propagated",
-                         static_cast<int>(refresh));
+    if (auto problem = rule::check(
+            refresh == SigmaPointRefresh::redraw || refresh == SigmaPointRefresh::reuse_propagated,
+            "refresh", static_cast<int>(refresh), "must be redraw or reuse_propagated")) {
+      return problem;
     }
     if (std::optional<std::string> problem = factorization.validate()) {
       return "factorization." + *problem;

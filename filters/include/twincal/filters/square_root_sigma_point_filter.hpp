@@ -60,14 +60,12 @@ struct SquareRootFilterOptions {
   SquareRootUpdate update = SquareRootUpdate::joseph;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (refresh != SigmaPointRefresh::redraw && refresh != SigmaPointRefresh::reuse_propagated) {
-      return fmt::format("refresh is {}; it must be redraw or reuse_propagated",
-                         static_cast<int>(refresh));
-    }
-    if (update != SquareRootUpdate::joseph && update != SquareRootUpdate::downdate) {
-      return fmt::format("update is {}; it must be joseph or downdate", static_cast<int>(update));
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::check(
+             refresh == SigmaPointRefresh::redraw || refresh == SigmaPointRefresh::reuse_propagated,
+             "refresh", static_cast<int>(refresh), "must be redraw or reuse_propagated"),
+         rule::check(update == SquareRootUpdate::joseph || update == SquareRootUpdate::downdate,
+                     "update", static_cast<int>(update), "must be joseph or downdate")});
   }
 };
 

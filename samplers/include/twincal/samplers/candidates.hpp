@@ -35,9 +35,8 @@ struct CandidateOptions {
   Index max_batches = 64;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (count < 1) return fmt::format("count is {}; it must be >= 1", count);
-    if (max_batches < 1) return fmt::format("max_batches is {}; it must be >= 1", max_batches);
-    return std::nullopt;
+    return first_problem({rule::at_least("count", count, Index{1}),
+                          rule::at_least("max_batches", max_batches, Index{1})});
   }
 };
 

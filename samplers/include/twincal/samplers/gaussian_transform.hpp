@@ -60,10 +60,7 @@ struct GaussianTransformOptions {
   double clip = 1e-10;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (!(clip > 0.0 && clip < 0.5)) {
-      return fmt::format("clip is {}; it must lie in (0, 0.5)", clip);
-    }
-    return std::nullopt;
+    return rule::in_open("clip", clip, 0.0, 0.5);
   }
 };
 
