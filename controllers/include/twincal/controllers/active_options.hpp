@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "twincal/controllers/constant_velocity_options.hpp"
+#include "twincal/controllers/paper_settings.hpp"
 #include "twincal/controllers/quadratic_surrogate.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
@@ -18,10 +19,11 @@
 namespace twincal {
 
 struct ActiveOptions {
-  /// σz² of the measured quality, eq. (5b) (the paper's 1e-4 for the body, 1e-6 for the door).
-  double measurement_variance = 1e-4;
-  /// δû0 ~ N(0, initial_variance·I) and P0 = initial_variance·I (the paper's 1e-3).
-  double initial_variance = 1e-3;
+  /// σz² of the measured quality, eq. (5b) (the paper's, PaperSettings: 1e-4 for the body, 1e-6
+  /// for the door).
+  double measurement_variance = PaperSettings{}.measurement_variance;
+  /// δû0 ~ N(0, initial_variance·I) and P0 = initial_variance·I (the paper's, PaperSettings).
+  double initial_variance = PaperSettings{}.initial_variance;
   /// The moving-horizon estimator of the drifting offset, used while the twin's quadratic model
   /// holds (constant_velocity_estimator.hpp).
   ConstantVelocityOptions trajectory{};
