@@ -54,9 +54,8 @@ void plain_directions(Index j, int bits, std::uint64_t* out, std::size_t stride)
 }  // namespace
 
 std::optional<std::string> SobolOptions::validate() const {
-  return rule::check(
-      bits >= 1 && bits <= Sobol::max_bits, "bits", bits,
-      fmt::format("must lie in [1, {}] so that every point is an exact double", Sobol::max_bits));
+  return rule::check(bits >= 1 && bits <= Sobol::max_bits, "bits", bits,
+                     "must lie in [1, {}] so that every point is an exact double", Sobol::max_bits);
 }
 
 Sobol::Sobol(Index dimension, SobolOptions options)

@@ -464,5 +464,22 @@ TEST(SigmaPointFilter, StepsDoNotAllocateAfterTheFirstAtAnySize) {
   EXPECT_GT(allocations_in_steps(dynamic_joseph, dynamic_inputs), 0);
 }
 
+// cholesky() validates its options on every call (a controller factors P per step, a log-det
+// loss per candidate): options that pass must not allocate the sentence of a rule they keep.
+TEST(SigmaPointFilterOptions, OptionsThatPassValidateWithoutAllocating) {
+  if (!test_support::counts_allocations()) GTEST_SKIP() << "malloc is interposed by the sanitizer";
+  bool valid = true;
+  EXPECT_EQ(test_support::allocations_in([&] {
+              valid = !CholeskyOptions{}.validate() && !SigmaPointFilterOptions{}.validate();
+            }),
+            0);
+  EXPECT_TRUE(valid);
+  // The counter sees a broken rule's sentence, so the zero above is not for want of counting.
+  EXPECT_GT(test_support::allocations_in(
+                [&] { valid = !CholeskyOptions{.jitter_growth = 0.5}.validate(); }),
+            0);
+  EXPECT_FALSE(valid);
+}
+
 }  // namespace
 }  // namespace twincal

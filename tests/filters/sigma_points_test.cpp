@@ -104,7 +104,8 @@ TEST(SigmaPointsGolden, MatchFilterpyPointsAndWeights) {
     const VectorX mean = test_support::vector(c["mean"]);
     const MatrixX covariance = test_support::matrix(c["cov"]);
     const MatrixX lower = covariance.llt().matrixL();
-    const MatrixX expected_points = test_support::matrix(c["points"]).transpose();  // rows are points
+    const MatrixX expected_points =
+        test_support::matrix(c["points"]).transpose();  // rows are points
     SigmaPoints<Dynamic, Dynamic> set;
     if (scheme == "merwe") {
       set =

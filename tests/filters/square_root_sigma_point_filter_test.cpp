@@ -22,10 +22,11 @@ using ::testing::HasSubstr;
 
 template <int N, typename Scheme>
 test_support::Agreement replay_square_root(const std::string& file, const nlohmann::json& run,
-                                     const Scheme& scheme, SquareRootUpdate update) {
+                                           const Scheme& scheme, SquareRootUpdate update) {
   using Filter = SquareRootSigmaPointFilter<RandomWalk<N>, QuadraticQualityMeasurement<N>, Scheme>;
-  Filter filter(test_support::process_model<N>(run), test_support::measurement_model<N>(run), scheme,
-                test_support::vector<N>(run["x0"]), SquareMatrix<N>(test_support::matrix<N, N>(run["P0"])),
+  Filter filter(test_support::process_model<N>(run), test_support::measurement_model<N>(run),
+                scheme, test_support::vector<N>(run["x0"]),
+                SquareMatrix<N>(test_support::matrix<N, N>(run["P0"])),
                 SquareRootFilterOptions{test_support::refresh_of(file, run), update});
   return test_support::replay(filter, run);
 }
@@ -168,7 +169,8 @@ SquareRootUkf<N> make_filter(SquareRootFilterOptions options = {SigmaPointRefres
                                                                 SquareRootUpdate::joseph}) {
   const nlohmann::json data = test_support::load("filter_runs_1.4.5.json");
   const nlohmann::json& run = data["runs"][4];
-  return SquareRootUkf<N>(test_support::process_model<N>(run), test_support::measurement_model<N>(run),
+  return SquareRootUkf<N>(test_support::process_model<N>(run),
+                          test_support::measurement_model<N>(run),
                           MerweScaledSigmaPoints{0.1, 2.0, 0.0}, test_support::vector<N>(run["x0"]),
                           SquareMatrix<N>(test_support::matrix<N, N>(run["P0"])), options);
 }

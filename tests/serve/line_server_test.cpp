@@ -31,8 +31,8 @@ namespace {
 
 using nlohmann::json;
 using test_support::analytic_options;
-using ::testing::HasSubstr;
 using test_support::TemporaryDatabase;
+using ::testing::HasSubstr;
 
 // A blocking TCP client of the loopback server, with a deadline on every read.
 class Client {

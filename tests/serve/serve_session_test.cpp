@@ -163,8 +163,8 @@ TEST(ServeSession, StoresASnapshotAtCheckpointAndShutdownAndChecksEveryOne) {
 
   // A snapshot edited and sealed again: the full replay finds it.
   test_support::edit_database(database.get(),
-                         "UPDATE snapshots SET state = replace(state, '\"request_id\":6', "
-                         "'\"request_id\":6,\"edited\":true') WHERE request_id = 6");
+                              "UPDATE snapshots SET state = replace(state, '\"request_id\":6', "
+                              "'\"request_id\":6,\"edited\":true') WHERE request_id = 6");
   EXPECT_THROW((void)ServeSession::check(database.get()), HistoryDamageError);
   test_support::reseal_history(database.get());
   try {
@@ -185,9 +185,10 @@ TEST(ServeSession, RefusesASnapshotItCannotRestore) {
     drive(session, 0, 5);
   }
   // The last snapshot's filter state loses its covariance: refused, naming the snapshot.
-  test_support::edit_database(database.get(),
-                         "UPDATE snapshots SET state = json_remove(state, '$.controller.filter') "
-                         "WHERE request_id = 4");
+  test_support::edit_database(
+      database.get(),
+      "UPDATE snapshots SET state = json_remove(state, '$.controller.filter') "
+      "WHERE request_id = 4");
   test_support::reseal_history(database.get());
   try {
     (void)ServeSession::resume(database.get(), Durability::normal);
@@ -436,9 +437,10 @@ TEST(ServeSession, ResumesScannedPartsFromTheirRecordedOptimumWithoutSearchingAg
   // The recorded u0 of request 2 moved by 1e-6: the row's checksum finds it; sealed again, a
   // resume that searched again would not notice, one that takes the record replays to other
   // controls and refuses the history.
-  test_support::edit_database(database.get(),
-                         "UPDATE proposals SET assembly = json_set(assembly, '$.optimum[0]', "
-                         "json_extract(assembly, '$.optimum[0]') + 1e-6) WHERE request_id = 2");
+  test_support::edit_database(
+      database.get(),
+      "UPDATE proposals SET assembly = json_set(assembly, '$.optimum[0]', "
+      "json_extract(assembly, '$.optimum[0]') + 1e-6) WHERE request_id = 2");
   try {
     (void)ServeSession::resume(database.get(), Durability::normal);
     FAIL() << "resumed a history whose recorded optimum was edited";
@@ -461,8 +463,8 @@ TEST(ServeSession, RefusesToResumeAHistoryThatDoesNotReplay) {
     ServeSession session = ServeSession::start(analytic_options("w=1"), database.get());
     drive(session, 0, 5);
   }
-  test_support::edit_database(database.get(),
-                         "UPDATE observations SET quality = quality + 1e-9 WHERE request_id = 3");
+  test_support::edit_database(
+      database.get(), "UPDATE observations SET quality = quality + 1e-9 WHERE request_id = 3");
   try {
     (void)ServeSession::resume(database.get());
     FAIL() << "resumed a tampered history";
@@ -486,9 +488,10 @@ TEST(ServeSession, RefusesAHistoryWhoseReportDoesNotReplay) {
     drive(session, 0, 4);
   }
   // z* of request 2's report, edited and sealed again: the controls replay, the report does not.
-  test_support::edit_database(database.get(),
-                         "UPDATE proposals SET report = json_set(report, '$.optimal_quality', "
-                         "json_extract(report, '$.optimal_quality') * 2) WHERE request_id = 2");
+  test_support::edit_database(
+      database.get(),
+      "UPDATE proposals SET report = json_set(report, '$.optimal_quality', "
+      "json_extract(report, '$.optimal_quality') * 2) WHERE request_id = 2");
   test_support::reseal_history(database.get());
   try {
     (void)ServeSession::resume(database.get(), Durability::normal);
@@ -519,7 +522,7 @@ TEST(ServeSession, ChecksAHistoryWithoutWritingToIt) {
   EXPECT_EQ(bytes(), before);
 
   test_support::edit_database(database.get(),
-                         "UPDATE observations SET quality = 0.5 WHERE request_id = 4");
+                              "UPDATE observations SET quality = 0.5 WHERE request_id = 4");
   EXPECT_THROW((void)ServeSession::check(database.get()), HistoryDamageError);
   test_support::reseal_history(database.get());
   EXPECT_THROW((void)ServeSession::check(database.get()), HistoryMismatchError);

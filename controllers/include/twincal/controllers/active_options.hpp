@@ -4,11 +4,13 @@
 /// every twin: the scales that differ between twins (the box, the quality, its curvature, the
 /// offset's uncertainty) enter through the twin and the filter, not through these numbers.
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "twincal/controllers/constant_velocity_options.hpp"
 #include "twincal/controllers/paper_settings.hpp"
@@ -95,9 +97,8 @@ struct ActiveOptions {
              rule::check(min_process_variance <= process_variance &&
                              process_variance <= max_process_variance,
                          "process_variance", process_variance,
-                         fmt::format("must lie in [min_process_variance, max_process_variance] = "
-                                     "[{}, {}]",
-                                     min_process_variance, max_process_variance)),
+                         "must lie in [min_process_variance, max_process_variance] = [{}, {}]",
+                         min_process_variance, max_process_variance),
              rule::in_closed("adaptation_rate", adaptation_rate, 0.0, 1.0),
              rule::finite_at_least("max_horizon", max_horizon, 1.0),
              rule::in_left_open("max_probe_fraction", max_probe_fraction, 0.0, 1.0),
@@ -109,7 +110,7 @@ struct ActiveOptions {
              rule::non_negative_finite("relinearization_budget", relinearization_budget),
              rule::check(audit_period == 0 || (audit_period >= 2 && audit_window >= 3),
                          "audit_period and audit_window",
-                         fmt::format("{} and {}", audit_period, audit_window),
+                         fmt::join(std::array{audit_period, audit_window}, " and "),
                          "audit_period = 0 (no audit), or audit_period >= 2 and audit_window >= 3"),
              rule::finite_at_least("audit_misfit", audit_misfit, 1.0)})) {
       return problem;

@@ -20,6 +20,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -46,12 +47,15 @@ concept ValidatableOptions = requires(const T& options) {
 /// rule on doubles.
 namespace rule {
 
-/// "<field>: value is <value>; rule: <rule>" unless `holds`.
-template <typename T>
+/// "<field>: value is <value>; rule: <rule formatted with args>" unless `holds`. The sentence
+/// is formatted only for a broken rule, so a validate() that passes allocates nothing: cholesky()
+/// and CandidateSet::draw() validate their options on every call, inside controllers' loops.
+template <typename T, typename... Args>
 [[nodiscard]] std::optional<std::string> check(bool holds, std::string_view field, const T& value,
-                                               std::string_view rule) {
+                                               fmt::format_string<Args...> rule, Args&&... args) {
   if (holds) return std::nullopt;
-  return fmt::format("{}: value is {}; rule: {}", field, value, rule);
+  return fmt::format("{}: value is {}; rule: {}", field, value,
+                     fmt::format(rule, std::forward<Args>(args)...));
 }
 
 /// value finite and > 0.
@@ -69,48 +73,45 @@ template <typename T>
 /// value finite and > bound.
 [[nodiscard]] inline std::optional<std::string> finite_above(std::string_view field, double value,
                                                              double bound) {
-  return check(std::isfinite(value) && value > bound, field, value,
-               fmt::format("must be finite and > {}", bound));
+  return check(std::isfinite(value) && value > bound, field, value, "must be finite and > {}",
+               bound);
 }
 
 /// value finite and >= bound.
 [[nodiscard]] inline std::optional<std::string> finite_at_least(std::string_view field,
                                                                 double value, double bound) {
-  return check(std::isfinite(value) && value >= bound, field, value,
-               fmt::format("must be finite and >= {}", bound));
+  return check(std::isfinite(value) && value >= bound, field, value, "must be finite and >= {}",
+               bound);
 }
 
 /// lo <= value <= hi.
 [[nodiscard]] inline std::optional<std::string> in_closed(std::string_view field, double value,
                                                           double lo, double hi) {
-  return check(value >= lo && value <= hi, field, value,
-               fmt::format("must lie in [{}, {}]", lo, hi));
+  return check(value >= lo && value <= hi, field, value, "must lie in [{}, {}]", lo, hi);
 }
 
 /// lo < value <= hi.
 [[nodiscard]] inline std::optional<std::string> in_left_open(std::string_view field, double value,
                                                              double lo, double hi) {
-  return check(value > lo && value <= hi, field, value,
-               fmt::format("must lie in ({}, {}]", lo, hi));
+  return check(value > lo && value <= hi, field, value, "must lie in ({}, {}]", lo, hi);
 }
 
 /// lo <= value < hi.
 [[nodiscard]] inline std::optional<std::string> in_right_open(std::string_view field, double value,
                                                               double lo, double hi) {
-  return check(value >= lo && value < hi, field, value,
-               fmt::format("must lie in [{}, {})", lo, hi));
+  return check(value >= lo && value < hi, field, value, "must lie in [{}, {})", lo, hi);
 }
 
 /// lo < value < hi.
 [[nodiscard]] inline std::optional<std::string> in_open(std::string_view field, double value,
                                                         double lo, double hi) {
-  return check(value > lo && value < hi, field, value, fmt::format("must lie in ({}, {})", lo, hi));
+  return check(value > lo && value < hi, field, value, "must lie in ({}, {})", lo, hi);
 }
 
 /// An integer value >= least.
 template <std::integral I>
 [[nodiscard]] std::optional<std::string> at_least(std::string_view field, I value, I least) {
-  return check(value >= least, field, value, fmt::format("must be >= {}", least));
+  return check(value >= least, field, value, "must be >= {}", least);
 }
 
 }  // namespace rule
