@@ -51,10 +51,11 @@ namespace rule {
 /// is formatted only for a broken rule, so a validate() that passes allocates nothing: cholesky()
 /// and CandidateSet::draw() validate their options on every call, inside controllers' loops.
 template <typename T, typename... Args>
-[[nodiscard]] std::optional<std::string> check(bool holds, std::string_view field, const T& value,
+[[nodiscard]] std::optional<std::string> check(bool holds, std::string_view field, T&& value,
                                                fmt::format_string<Args...> rule, Args&&... args) {
   if (holds) return std::nullopt;
-  return fmt::format("{}: value is {}; rule: {}", field, value,
+  // Forwarded: fmt takes a view (fmt::join of several fields) only as an rvalue.
+  return fmt::format("{}: value is {}; rule: {}", field, std::forward<T>(value),
                      fmt::format(rule, std::forward<Args>(args)...));
 }
 
