@@ -1,5 +1,6 @@
 #include "twincal/sheet_metal/sheet_metal_layout.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -44,11 +45,16 @@ std::vector<Vector<2>> staggered_welds(double x_first, double x_last, double pit
   return welds;
 }
 
+// The points (x, y) for y in ys, x in xs, numbered on from the points of the list whose name
+// has the prefix (key points K1 to K18 over both parts; locators U1–U6, then L1–L6).
 void add_grid(std::vector<LayoutPoint>& points, const std::string& prefix, SheetMetalPart part,
               const std::vector<double>& xs, const std::vector<double>& ys) {
+  auto number = std::count_if(points.begin(), points.end(), [&](const LayoutPoint& point) {
+    return point.name.starts_with(prefix);
+  });
   for (const double y : ys) {
     for (const double x : xs) {
-      points.push_back({fmt::format("{}{}", prefix, points.size() + 1), part, x, y});
+      points.push_back({fmt::format("{}{}", prefix, ++number), part, x, y});
     }
   }
 }
@@ -83,18 +89,8 @@ SheetMetalLayout SheetMetalLayout::body() {
   layout.lower = {0.0, 0.0, 800.0, 400.0};
   layout.upper = {0.0, 340.0, 800.0, 400.0};  // 60 mm lap flange, y ∈ [340, 400]
   layout.welds = staggered_welds(40.0, 760.0, 40.0, 360.0, 380.0);
-  int u = 0;
-  for (const double y : {440.0, 680.0}) {
-    for (const double x : {100.0, 400.0, 700.0}) {
-      layout.locators.push_back({fmt::format("U{}", ++u), upper_part, x, y});
-    }
-  }
-  int l = 0;
-  for (const double y : {60.0, 300.0}) {
-    for (const double x : {100.0, 400.0, 700.0}) {
-      layout.locators.push_back({fmt::format("L{}", ++l), lower_part, x, y});
-    }
-  }
+  add_grid(layout.locators, "U", upper_part, {100.0, 400.0, 700.0}, {440.0, 680.0});
+  add_grid(layout.locators, "L", lower_part, {100.0, 400.0, 700.0}, {60.0, 300.0});
   // 3 × 3 key points per part: edges, middle and the flange, m = 18.
   add_grid(layout.key_points, "K", upper_part, {20.0, 400.0, 780.0}, {400.0, 560.0, 740.0});
   add_grid(layout.key_points, "K", lower_part, {20.0, 400.0, 780.0}, {0.0, 180.0, 340.0});
@@ -110,18 +106,8 @@ SheetMetalLayout SheetMetalLayout::door() {
   layout.lower = {0.0, 0.0, 900.0, 500.0};
   layout.upper = {0.0, 440.0, 900.0, 500.0};  // 60 mm lap flange, y ∈ [440, 500]
   layout.welds = staggered_welds(40.0, 860.0, 40.0, 460.0, 480.0);
-  int u = 0;
-  for (const double y : {620.0, 860.0}) {
-    for (const double x : {100.0, 280.0, 460.0, 640.0, 800.0}) {
-      layout.locators.push_back({fmt::format("U{}", ++u), upper_part, x, y});
-    }
-  }
-  int l = 0;
-  for (const double y : {60.0, 200.0, 340.0}) {
-    for (const double x : {100.0, 460.0, 800.0}) {
-      layout.locators.push_back({fmt::format("L{}", ++l), lower_part, x, y});
-    }
-  }
+  add_grid(layout.locators, "U", upper_part, {100.0, 280.0, 460.0, 640.0, 800.0}, {620.0, 860.0});
+  add_grid(layout.locators, "L", lower_part, {100.0, 460.0, 800.0}, {60.0, 200.0, 340.0});
   add_grid(layout.key_points, "K", upper_part, {20.0, 240.0, 460.0, 680.0, 880.0},
            {520.0, 700.0, 920.0});
   add_grid(layout.key_points, "K", lower_part, {20.0, 240.0, 460.0, 680.0, 880.0},
