@@ -1,55 +1,41 @@
 #include "twincal/calculix/calculix_options.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "twincal/calculix/calculix_error.hpp"
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
 std::optional<std::string> CalculixOptions::validate() const {
-  if (executable.empty()) return "executable: value is empty; rule: must name the solver";
-  if (scratch_root.empty()) return "scratch_root: value is empty; rule: must name a directory";
-  if (refinement < 1 || refinement > 16) {
-    return fmt::format("refinement: value is {}; rule: must lie in [1, 16]", refinement);
-  }
-  if (auto problem = section.validate()) return "section." + *problem;
-  if (!(nominal_gap >= 0.0) || !std::isfinite(nominal_gap)) {
-    return fmt::format("nominal_gap: value is {}; rule: must be finite and >= 0 (mm)", nominal_gap);
-  }
-  if (!(gap_stiffness > 0.0) || !std::isfinite(gap_stiffness)) {
-    return fmt::format("gap_stiffness: value is {}; rule: must be finite and > 0 (N/mm)",
-                       gap_stiffness);
-  }
-  if (!(open_gap_force > 0.0) || !std::isfinite(open_gap_force)) {
-    return fmt::format("open_gap_force: value is {}; rule: must be finite and > 0 (N)",
-                       open_gap_force);
-  }
-  if (contact && !geometric_nonlinearity) {
-    return "contact: value is true with geometric_nonlinearity false; rule: CalculiX solves "
-           "gap elements only in a nonlinear (NLGEOM) step";
-  }
-  if (max_increments < 1) {
-    return fmt::format("max_increments: value is {}; rule: must be >= 1", max_increments);
-  }
-  if (max_iterations < 1) {
-    return fmt::format("max_iterations: value is {}; rule: must be >= 1", max_iterations);
-  }
-  if (max_cutbacks < 1) {
-    return fmt::format("max_cutbacks: value is {}; rule: must be >= 1", max_cutbacks);
-  }
-  if (!(locator_bound > 0.0) || !std::isfinite(locator_bound)) {
-    return fmt::format("locator_bound: value is {}; rule: must be finite and > 0 (mm)",
-                       locator_bound);
-  }
-  if (solver_threads < 1) {
-    return fmt::format("solver_threads: value is {}; rule: must be >= 1", solver_threads);
-  }
-  if (timeout.count() <= 0) {
-    return fmt::format("timeout: value is {} ms; rule: must be > 0", timeout.count());
-  }
-  return std::nullopt;
+  // A nested option's problem, named by its path (section.thickness: …).
+  std::optional<std::string> section_problem = section.validate();
+  if (section_problem) section_problem = "section." + *section_problem;
+  return first_problem(
+      {rule::check(!executable.empty(), "executable", "empty", "must name the solver"),
+       rule::check(!scratch_root.empty(), "scratch_root", "empty", "must name a directory"),
+       rule::check(refinement >= 1 && refinement <= 16, "refinement", refinement,
+                   "must lie in [1, 16]"),
+       std::move(section_problem),
+       rule::check(std::isfinite(nominal_gap) && nominal_gap >= 0.0, "nominal_gap", nominal_gap,
+                   "must be finite and >= 0 (mm)"),
+       rule::check(std::isfinite(gap_stiffness) && gap_stiffness > 0.0, "gap_stiffness",
+                   gap_stiffness, "must be finite and > 0 (N/mm)"),
+       rule::check(std::isfinite(open_gap_force) && open_gap_force > 0.0, "open_gap_force",
+                   open_gap_force, "must be finite and > 0 (N)"),
+       rule::check(!contact || geometric_nonlinearity, "contact",
+                   "true with geometric_nonlinearity false",
+                   "CalculiX solves gap elements only in a nonlinear (NLGEOM) step"),
+       rule::at_least("max_increments", max_increments, Index{1}),
+       rule::at_least("max_iterations", max_iterations, Index{1}),
+       rule::at_least("max_cutbacks", max_cutbacks, Index{1}),
+       rule::check(std::isfinite(locator_bound) && locator_bound > 0.0, "locator_bound",
+                   locator_bound, "must be finite and > 0 (mm)"),
+       rule::at_least("solver_threads", solver_threads, Index{1}),
+       rule::check(timeout.count() > 0, "timeout", timeout.count(), "must be > 0 (ms)")});
 }
 
 const char* to_string(CalculixFailure failure) noexcept {

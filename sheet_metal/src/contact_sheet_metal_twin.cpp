@@ -17,11 +17,11 @@
 namespace twincal {
 
 std::optional<std::string> ContactSheetMetalTwinOptions::validate() const {
-  if (!(nominal_gap >= 0.0) || !std::isfinite(nominal_gap)) {
-    return fmt::format("nominal_gap: value is {}; rule: must be finite and >= 0 (mm)", nominal_gap);
-  }
-  if (auto problem = solver.validate()) return "solver." + *problem;
-  return std::nullopt;
+  std::optional<std::string> solver_problem = solver.validate();
+  if (solver_problem) solver_problem = "solver." + *solver_problem;
+  return first_problem({rule::check(std::isfinite(nominal_gap) && nominal_gap >= 0.0, "nominal_gap",
+                                    nominal_gap, "must be finite and >= 0 (mm)"),
+                        std::move(solver_problem)});
 }
 
 struct ContactSheetMetalTwin::Precomputed {

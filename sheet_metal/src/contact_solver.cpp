@@ -33,14 +33,9 @@ MatrixX validated(MatrixX compliance, const ContactSolverOptions& options) {
 }  // namespace
 
 std::optional<std::string> ContactSolverOptions::validate() const {
-  if (!(tolerance > 0.0) || !(tolerance < 1.0)) {
-    return fmt::format("tolerance: value is {}; rule: must lie in (0, 1)", tolerance);
-  }
-  if (max_iterations < 0) {
-    return fmt::format("max_iterations: value is {}; rule: must be >= 0 (0: 4 (p + 1))",
-                       max_iterations);
-  }
-  return std::nullopt;
+  return first_problem({rule::in_open("tolerance", tolerance, 0.0, 1.0),
+                        rule::check(max_iterations >= 0, "max_iterations", max_iterations,
+                                    "must be >= 0 (0: 4 (p + 1))")});
 }
 
 ContactSolver::Workspace::Workspace(Index size)

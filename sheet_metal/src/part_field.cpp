@@ -11,22 +11,11 @@
 namespace twincal {
 
 std::optional<std::string> PartFieldOptions::validate() const {
-  if (!(standard_deviation >= 0.0) || !std::isfinite(standard_deviation)) {
-    return fmt::format("standard_deviation: is {}; rule: must be finite and >= 0",
-                       standard_deviation);
-  }
-  if (!(correlation_length > 0.0) || !std::isfinite(correlation_length)) {
-    return fmt::format("correlation_length: is {}; rule: must be finite and > 0",
-                       correlation_length);
-  }
-  if (features < 1) return fmt::format("features: is {}; rule: must be >= 1", features);
-  if (!(bow >= 0.0) || !std::isfinite(bow)) {
-    return fmt::format("bow: is {}; rule: must be finite and >= 0", bow);
-  }
-  if (!(twist >= 0.0) || !std::isfinite(twist)) {
-    return fmt::format("twist: is {}; rule: must be finite and >= 0", twist);
-  }
-  return std::nullopt;
+  return first_problem({rule::non_negative_finite("standard_deviation", standard_deviation),
+                        rule::positive_finite("correlation_length", correlation_length),
+                        rule::at_least("features", features, decltype(features){1}),
+                        rule::non_negative_finite("bow", bow),
+                        rule::non_negative_finite("twist", twist)});
 }
 
 PartField::PartField(const PartFieldOptions& options) : options_(options) {

@@ -34,16 +34,14 @@ void require_parts(std::string_view name, const std::vector<VectorX>& parts, Ind
 }  // namespace
 
 std::optional<std::string> SheetMetalTwinOptions::validate() const {
-  if (auto problem = section.validate()) return "section." + *problem;
-  if (auto problem = field.validate()) return "field." + *problem;
-  if (upper_parts < 1 || lower_parts < 1) {
-    return fmt::format("upper_parts and lower_parts: are {} and {}; rule: both must be >= 1",
-                       upper_parts, lower_parts);
-  }
-  if (!(locator_bound > 0.0) || !std::isfinite(locator_bound)) {
-    return fmt::format("locator_bound: is {}; rule: must be finite and > 0", locator_bound);
-  }
-  return std::nullopt;
+  std::optional<std::string> section_problem = section.validate();
+  if (section_problem) section_problem = "section." + *section_problem;
+  std::optional<std::string> field_problem = field.validate();
+  if (field_problem) field_problem = "field." + *field_problem;
+  return first_problem({std::move(section_problem), std::move(field_problem),
+                        rule::at_least("upper_parts", upper_parts, decltype(upper_parts){1}),
+                        rule::at_least("lower_parts", lower_parts, decltype(lower_parts){1}),
+                        rule::positive_finite("locator_bound", locator_bound)});
 }
 
 SheetMetalTwin::SheetMetalTwin(SheetMetalLayout layout, const SheetMetalTwinOptions& options,

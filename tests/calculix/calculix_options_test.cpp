@@ -45,7 +45,7 @@ TEST(CalculixOptions, EachRuleNamesItsFieldAndValue) {
   EXPECT_THAT(problem([](CalculixOptions& o) { o.solver_threads = 0; }),
               HasSubstr("solver_threads: value is 0"));
   EXPECT_THAT(problem([](CalculixOptions& o) { o.timeout = std::chrono::milliseconds(0); }),
-              HasSubstr("timeout: value is 0 ms"));
+              HasSubstr("timeout: value is 0; rule: must be > 0 (ms)"));
   // Without contact, small displacements are allowed.
   CalculixOptions linear;
   linear.contact = false;

@@ -84,20 +84,13 @@ std::optional<std::string> ServeOptions::validate() const {
     return "config: a plant (plant_case, plant_nonlinearity or plant_external_twin) is set; "
            "rule: twincal serve's plant is the cell, so a served config sets none";
   }
-  if (run < 0) return fmt::format("run: is {}; rule: must be >= 0", run);
-  if (snapshot_interval < 0) {
-    return fmt::format("snapshot_interval: is {}; rule: must be >= 0 (0: no snapshots)",
-                       snapshot_interval);
-  }
-  return std::nullopt;
+  return first_problem({rule::check(run >= 0, "run", run, "must be >= 0"),
+                        rule::check(snapshot_interval >= 0, "snapshot_interval", snapshot_interval,
+                                    "must be >= 0 (0: no snapshots)")});
 }
-
 std::optional<std::string> ResumeOptions::validate() const {
-  if (snapshot_interval < 0) {
-    return fmt::format("snapshot_interval: is {}; rule: must be >= 0 (0: no snapshots)",
-                       snapshot_interval);
-  }
-  return std::nullopt;
+  return rule::check(snapshot_interval >= 0, "snapshot_interval", snapshot_interval,
+                     "must be >= 0 (0: no snapshots)");
 }
 
 ServeSession::ServeSession(ServeOptions options, std::unique_ptr<CaseTwin> twin, HistoryStore store)
