@@ -16,15 +16,16 @@
 #include "bindings.hpp"
 #include "python_twin.hpp"
 #include "twincal/controllers/active_controller.hpp"
+#include "twincal/controllers/any_exploration_loss.hpp"
 #include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/exploration_kind.hpp"
 #include "twincal/controllers/individualized_controller.hpp"
 #include "twincal/controllers/presets.hpp"
 #include "twincal/controllers/sensitivity_weights.hpp"
 #include "twincal/core/random_stream.hpp"
-#include "twincal/experiments/any_exploration_loss.hpp"
-#include "twincal/experiments/any_sampler.hpp"
-#include "twincal/experiments/experiment_choices.hpp"
 #include "twincal/experiments/experiment_config.hpp"
+#include "twincal/samplers/any_sampler.hpp"
+#include "twincal/samplers/candidate_sampler.hpp"
 
 namespace py = pybind11;
 
@@ -96,34 +97,24 @@ LookaheadOptions lookahead_options(double w, const std::optional<Index>& candida
 // (sensitivity_weights.hpp) over its `assemblies` attribute. Called with the GIL held.
 AnyExplorationLoss exploration_loss(const std::string& kind, const std::optional<VectorX>& weights,
                                     const PythonTwin& twin) {
-  switch (parse_exploration_kind(kind)) {
-    case ExplorationKind::weighted_trace: {
-      if (weights) {
-        require_dimension("weights", weights->size(), twin.control_dimension());
-        return AnyExplorationLoss(WeightedTraceLoss(*weights));
-      }
-      const py::object object = twin.object();
-      if (!py::hasattr(object, "assemblies")) {
-        throw InvalidArgumentError(
-            "weights",
-            "weights: missing; rule: exploration='weighted_trace' needs weights (d "
-            "values >= 0) or a twin with an `assemblies` list to infer them from");
-      }
-      const py::list listed(object.attr("assemblies"));  // held while the twin is evaluated
-      std::vector<PythonAssembly> assemblies;
-      for (const py::handle assembly : listed) assemblies.push_back(twin.borrow(assembly));
-      py::gil_scoped_release release;
-      return AnyExplorationLoss(
-          WeightedTraceLoss(sensitivity_weights(IndividualOptimum<PythonTwin>(twin), assemblies)));
+  return make_exploration_loss(parse_exploration_kind(kind), [&]() -> VectorX {
+    if (weights) {
+      require_dimension("weights", weights->size(), twin.control_dimension());
+      return *weights;
     }
-    case ExplorationKind::log_det:
-      return AnyExplorationLoss(LogDetLoss{});
-    case ExplorationKind::max_eigenvalue:
-      return AnyExplorationLoss(MaxEigenvalueLoss{});
-    case ExplorationKind::trace:
-      break;
-  }
-  return AnyExplorationLoss(TraceLoss{});
+    const py::object object = twin.object();
+    if (!py::hasattr(object, "assemblies")) {
+      throw InvalidArgumentError("weights",
+                                 "weights: missing; rule: exploration='weighted_trace' needs "
+                                 "weights (d values >= 0) or a twin with an `assemblies` list "
+                                 "to infer them from");
+    }
+    const py::list listed(object.attr("assemblies"));  // held while the twin is evaluated
+    std::vector<PythonAssembly> assemblies;
+    for (const py::handle assembly : listed) assemblies.push_back(twin.borrow(assembly));
+    py::gil_scoped_release release;
+    return sensitivity_weights(IndividualOptimum<PythonTwin>(twin), assemblies);
+  });
 }
 
 // propose, observe, twin, and what the controller can tell about its last step and its belief.

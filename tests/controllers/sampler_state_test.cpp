@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/samplers/any_sampler.hpp"
+#include "twincal/samplers/candidate_sampler.hpp"
 
 namespace twincal {
 namespace {
@@ -84,6 +86,31 @@ TEST(SamplerState, RefusesASobolPositionPastTheSequence) {
   saved["position"] = 16;  // the end of the sequence
   restore_sampler(sampler, saved);
   EXPECT_EQ(sampler.position(), 16U);
+}
+
+// AnySampler saves and restores the sampler it wraps, and refuses another kind's snapshot.
+TEST(SamplerState, AnySamplerRestoresTheWrappedSamplerBitForBit) {
+  for (const CandidateSampler kind :
+       {CandidateSampler::sobol, CandidateSampler::halton, CandidateSampler::random,
+        CandidateSampler::latin_hypercube}) {
+    AnySampler original(kind, 3, 7);
+    MatrixX points(3, 5);  // uneven: AnySampler's Sobol does not check the balance
+    original.fill(points);
+    const nlohmann::json snapshot = nlohmann::json::parse(save_sampler(original).dump());
+    AnySampler restored(kind, 3, 8);
+    restore_sampler(restored, snapshot);
+    EXPECT_EQ(save_sampler(restored), snapshot) << to_string(kind);
+    MatrixX a(3, 8);
+    MatrixX b(3, 8);
+    original.fill(a);
+    restored.fill(b);
+    EXPECT_EQ(a, b) << to_string(kind);
+  }
+  AnySampler sobol(CandidateSampler::sobol, 3, 7);
+  const nlohmann::json saved = save_sampler(sobol);
+  EXPECT_THROW(restore_sampler(sobol, save_sampler(AnySampler(CandidateSampler::halton, 3, 7))),
+               InvalidArgumentError);
+  EXPECT_EQ(save_sampler(sobol), saved);
 }
 
 }  // namespace

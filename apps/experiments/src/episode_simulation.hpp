@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 
+#include "twincal/controllers/any_controller.hpp"
+#include "twincal/controllers/any_exploration_loss.hpp"
 #include "twincal/controllers/default_controller.hpp"
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
@@ -16,9 +18,6 @@
 #include "twincal/controllers/sensitivity_weights.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/random_stream.hpp"
-#include "twincal/experiments/any_controller.hpp"
-#include "twincal/experiments/any_exploration_loss.hpp"
-#include "twincal/experiments/any_sampler.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/controller_spec.hpp"
 #include "twincal/experiments/experiment_config.hpp"
@@ -26,6 +25,7 @@
 #include "twincal/filters/sigma_point_scheme.hpp"
 #include "twincal/models/quality_feedback.hpp"
 #include "twincal/models/random_walk.hpp"
+#include "twincal/samplers/any_sampler.hpp"
 
 namespace twincal::detail {
 
@@ -35,23 +35,6 @@ struct EpisodeSetup {
   const ExperimentConfig* config = nullptr;
   RandomStream run{0};
 };
-
-/// The exploration loss of the config; the weighted trace's W from the twin's sensitivity
-/// (sensitivity_weights.hpp) over all its assemblies.
-inline AnyExplorationLoss make_exploration_loss(ExplorationKind kind, const CaseTwin& twin) {
-  switch (kind) {
-    case ExplorationKind::weighted_trace:
-      return AnyExplorationLoss(WeightedTraceLoss(
-          sensitivity_weights(IndividualOptimum<CaseTwin>(twin), twin.assemblies())));
-    case ExplorationKind::log_det:
-      return AnyExplorationLoss(LogDetLoss{});
-    case ExplorationKind::max_eigenvalue:
-      return AnyExplorationLoss(MaxEigenvalueLoss{});
-    case ExplorationKind::trace:
-      break;
-  }
-  return AnyExplorationLoss(TraceLoss{});
-}
 
 /// The filter numbers of the config (eq. 5 and the sigma points).
 inline PaperSettings paper_settings(const ExperimentConfig& config) {
@@ -92,11 +75,16 @@ AnyController make_filtered(const EpisodeSetup& setup, const ControllerSpec& spe
   if (spec.kind == ControllerSpec::Kind::default_control) {
     return AnyController(DefaultController<Filter>(std::move(filter)), d);
   }
+  // The weighted trace's W, if the config's loss is that: the twin's sensitivity
+  // (sensitivity_weights.hpp) over all its assemblies.
+  const auto sensitivity = [&twin] {
+    return sensitivity_weights(IndividualOptimum<CaseTwin>(twin), twin.assemblies());
+  };
   return AnyController(LookaheadController<Filter, AnySampler, ExpectedQuality, AnyExplorationLoss>(
                            std::move(filter),
                            AnySampler(config.sampler, d, setup.run.substream("candidates").seed()),
                            lookahead_options(config, spec, d), ExpectedQuality{},
-                           make_exploration_loss(config.exploration, twin)),
+                           make_exploration_loss(config.exploration, sensitivity)),
                        d);
 }
 

@@ -1,11 +1,11 @@
 #pragma once
 /// @file
 /// Where a candidate sampler of eq. (14) is in its sequence, as JSON, for controller snapshots:
-/// `save_sampler(s)` and `restore_sampler(s, saved)` for twincal's samplers (found by ADL; the
-/// experiments' AnySampler brings its own), and the concept `SnapshotSampler`. Sobol and Halton
-/// are their seed and position (restored by seek, not by drawing); PseudoRandom and
-/// LatinHypercube are their random stream (engine state included). Restored into a sampler of
-/// the same kind, dimension and options, the next points are bit for bit the saved sampler's.
+/// `save_sampler(s)` and `restore_sampler(s, saved)` for twincal's samplers (found by ADL), and
+/// the concept `SnapshotSampler`. Sobol and Halton are their seed and position (restored by
+/// seek, not by drawing); PseudoRandom and LatinHypercube are their random stream (engine state
+/// included); AnySampler is the sampler it wraps. Restored into a sampler of the same kind,
+/// dimension and options, the next points are bit for bit the saved sampler's.
 
 #include <concepts>
 #include <cstdint>
@@ -16,6 +16,7 @@
 #include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/filters/filter_state_json.hpp"
+#include "twincal/samplers/any_sampler.hpp"
 #include "twincal/samplers/halton.hpp"
 #include "twincal/samplers/latin_hypercube.hpp"
 #include "twincal/samplers/pseudo_random.hpp"
@@ -89,6 +90,18 @@ inline void restore_sampler(LatinHypercube& sampler, const nlohmann::json& saved
   sampler.set_stream(json_state::read_random_stream(json_state::field(saved, "stream"), "stream"));
 }
 
+/// The wrapped sampler's save_sampler, whose format names the kind.
+[[nodiscard]] inline nlohmann::json save_sampler(const AnySampler& sampler) {
+  return sampler.visit([](const auto& s) { return save_sampler(s); });
+}
+
+/// Restores a save_sampler of an AnySampler of the same kind and dimension.
+/// @throws InvalidArgumentError (another kind: its format; a field), DimensionMismatchError;
+///         the sampler unchanged.
+inline void restore_sampler(AnySampler& sampler, const nlohmann::json& saved) {
+  sampler.visit([&saved](auto& s) { restore_sampler(s, saved); });
+}
+
 /// A sampler whose position can be saved and restored (see the file comment).
 template <typename S>
 concept SnapshotSampler = requires(const S& sampler, S& target, const nlohmann::json& saved) {
@@ -98,5 +111,6 @@ concept SnapshotSampler = requires(const S& sampler, S& target, const nlohmann::
 
 static_assert(SnapshotSampler<Sobol> && SnapshotSampler<Halton>);
 static_assert(SnapshotSampler<PseudoRandom> && SnapshotSampler<LatinHypercube>);
+static_assert(SnapshotSampler<AnySampler>);
 
 }  // namespace twincal

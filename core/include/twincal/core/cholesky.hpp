@@ -15,6 +15,7 @@
 /// slightly asymmetric factor what they would factor anyway.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -30,6 +31,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/fixed_size_dispatch.hpp"
+#include "twincal/core/name_table.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
 
@@ -42,16 +44,14 @@ enum class CovarianceRepair {
   nearest_pd,  ///< clip eigenvalues (nearest SPD matrix in the Frobenius norm)
 };
 
+/// The policies' spellings (name_table.hpp), one table for to_string and any parser.
+inline constexpr auto covariance_repair_names =
+    std::to_array<NameEntry<CovarianceRepair>>({{CovarianceRepair::none, "none"},
+                                                {CovarianceRepair::jitter, "jitter"},
+                                                {CovarianceRepair::nearest_pd, "nearest_pd"}});
+
 [[nodiscard]] constexpr std::string_view to_string(CovarianceRepair repair) noexcept {
-  switch (repair) {
-    case CovarianceRepair::none:
-      return "none";
-    case CovarianceRepair::jitter:
-      return "jitter";
-    case CovarianceRepair::nearest_pd:
-      return "nearest_pd";
-  }
-  return "unknown";
+  return name_of(covariance_repair_names, repair);
 }
 
 struct CholeskyOptions {

@@ -11,6 +11,7 @@
 #include "twincal/core/format.hpp"
 #include "twincal/core/gaussian.hpp"
 #include "twincal/core/json_nesting.hpp"
+#include "twincal/core/name_table.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/core/stopwatch.hpp"

@@ -5,6 +5,7 @@
 
 #include "twincal/filters/cubature_kalman_filter.hpp"
 #include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
+#include "twincal/filters/filter_scheme.hpp"
 #include "twincal/filters/fixed_size_kernels.hpp"
 #include "twincal/filters/julier_sigma_points.hpp"
 #include "twincal/filters/measurement_model.hpp"

@@ -3,6 +3,7 @@
 /// Options of SigmaPointFilter and SquareRootSigmaPointFilter: which sigma points the update
 /// uses after a predict, and the numerical safeguards of the covariance update.
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -10,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "twincal/core/cholesky.hpp"
+#include "twincal/core/name_table.hpp"
 
 namespace twincal {
 
@@ -23,14 +25,13 @@ enum class SigmaPointRefresh {
   reuse_propagated,
 };
 
+/// The choices' spellings (name_table.hpp), one table for to_string and any parser.
+inline constexpr auto sigma_point_refresh_names = std::to_array<NameEntry<SigmaPointRefresh>>(
+    {{SigmaPointRefresh::redraw, "redraw"},
+     {SigmaPointRefresh::reuse_propagated, "reuse_propagated"}});
+
 [[nodiscard]] constexpr std::string_view to_string(SigmaPointRefresh refresh) noexcept {
-  switch (refresh) {
-    case SigmaPointRefresh::redraw:
-      return "redraw";
-    case SigmaPointRefresh::reuse_propagated:
-      return "reuse_propagated";
-  }
-  return "unknown";
+  return name_of(sigma_point_refresh_names, refresh);
 }
 
 struct SigmaPointFilterOptions {

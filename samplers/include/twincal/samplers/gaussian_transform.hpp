@@ -20,6 +20,7 @@
 /// Fixed N transforms column by column without allocating; Dynamic uses one matrix product.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -32,6 +33,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/name_table.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/samplers/normal_quantile.hpp"
@@ -44,14 +46,13 @@ enum class GaussianFactorization {
   eigen,     ///< A = V Λ^½, eigenvalues decreasing (principal components first)
 };
 
+/// The factors' spellings (name_table.hpp), one table for to_string and any parser.
+inline constexpr auto gaussian_factorization_names =
+    std::to_array<NameEntry<GaussianFactorization>>(
+        {{GaussianFactorization::cholesky, "cholesky"}, {GaussianFactorization::eigen, "eigen"}});
+
 [[nodiscard]] constexpr std::string_view to_string(GaussianFactorization f) noexcept {
-  switch (f) {
-    case GaussianFactorization::cholesky:
-      return "cholesky";
-    case GaussianFactorization::eigen:
-      return "eigen";
-  }
-  return "unknown";
+  return name_of(gaussian_factorization_names, f);
 }
 
 struct GaussianTransformOptions {

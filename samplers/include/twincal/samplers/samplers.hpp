@@ -2,8 +2,10 @@
 /// @file
 /// Umbrella header of the samplers module.
 
+#include "twincal/samplers/any_sampler.hpp"
 #include "twincal/samplers/balance_check.hpp"
 #include "twincal/samplers/box_set.hpp"
+#include "twincal/samplers/candidate_sampler.hpp"
 #include "twincal/samplers/candidates.hpp"
 #include "twincal/samplers/discrepancy.hpp"
 #include "twincal/samplers/gaussian_transform.hpp"

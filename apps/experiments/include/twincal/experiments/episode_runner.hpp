@@ -14,9 +14,9 @@
 
 #include <exception>
 
+#include "twincal/controllers/any_controller.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
-#include "twincal/experiments/any_controller.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/controller_spec.hpp"
 #include "twincal/experiments/episode_result.hpp"

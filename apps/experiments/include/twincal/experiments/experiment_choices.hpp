@@ -1,11 +1,14 @@
 #pragma once
 /// @file
-/// The named choices of an experiment — twin case, sigma-point scheme, candidate sampler and
-/// exploration loss — with their spellings in configs and on the command line.
+/// The named cases of an experiment — the twin case and the analytic twin's nonlinearity — with
+/// their spellings in configs and on the command line. The other named choices live with what
+/// they choose: FilterScheme (filters/filter_scheme.hpp), CandidateSampler
+/// (samplers/candidate_sampler.hpp), ExplorationKind (controllers/exploration_kind.hpp).
 
-#include <span>
-#include <string>
+#include <array>
 #include <string_view>
+
+#include "twincal/core/name_table.hpp"
 
 namespace twincal {
 
@@ -19,31 +22,36 @@ enum class TwinCase { body, door, analytic, external, body_contact, door_contact
 /// none keeps the RMS-quadratic twin; contact, stiffening and kink make Q² non-quadratic.
 enum class Nonlinearity { none, contact, stiffening, kink };
 
-/// The sigma-point scheme of the filter (the paper's UKF is merwe).
-enum class FilterScheme { merwe, julier, cubature, fifth_degree, simplex };
+/// The spellings in configs and on the command line (name_table.hpp).
+inline constexpr auto twin_case_names =
+    std::to_array<NameEntry<TwinCase>>({{TwinCase::body, "body"},
+                                        {TwinCase::door, "door"},
+                                        {TwinCase::analytic, "analytic"},
+                                        {TwinCase::external, "external"},
+                                        {TwinCase::body_contact, "body-contact"},
+                                        {TwinCase::door_contact, "door-contact"}});
+inline constexpr auto nonlinearity_names =
+    std::to_array<NameEntry<Nonlinearity>>({{Nonlinearity::none, "none"},
+                                            {Nonlinearity::contact, "contact"},
+                                            {Nonlinearity::stiffening, "stiffening"},
+                                            {Nonlinearity::kink, "kink"}});
 
-/// Where the candidate controls of eq. (14) come from (the paper's is sobol).
-enum class CandidateSampler { sobol, halton, random, latin_hypercube };
-
-/// The exploration loss of eq. (12) (the paper's is trace).
-enum class ExplorationKind { trace, weighted_trace, log_det, max_eigenvalue };
-
-[[nodiscard]] std::string_view to_string(TwinCase value) noexcept;
-[[nodiscard]] std::string_view to_string(Nonlinearity value) noexcept;
-[[nodiscard]] std::string_view to_string(FilterScheme value) noexcept;
-[[nodiscard]] std::string_view to_string(CandidateSampler value) noexcept;
-[[nodiscard]] std::string_view to_string(ExplorationKind value) noexcept;
+[[nodiscard]] constexpr std::string_view to_string(TwinCase value) noexcept {
+  return name_of(twin_case_names, value);
+}
+[[nodiscard]] constexpr std::string_view to_string(Nonlinearity value) noexcept {
+  return name_of(nonlinearity_names, value);
+}
 
 /// Parses a spelling; `what` names the setting in the error.
 /// @throws InvalidArgumentError "<what>: is \"x\"; rule: must be one of [a, b, …]".
-[[nodiscard]] TwinCase parse_twin_case(std::string_view text, std::string_view what = "case");
-[[nodiscard]] Nonlinearity parse_nonlinearity(std::string_view text,
-                                              std::string_view what = "nonlinearity");
-[[nodiscard]] FilterScheme parse_filter_scheme(std::string_view text,
-                                               std::string_view what = "filter");
-[[nodiscard]] CandidateSampler parse_candidate_sampler(std::string_view text,
-                                                       std::string_view what = "sampler");
-[[nodiscard]] ExplorationKind parse_exploration_kind(std::string_view text,
-                                                     std::string_view what = "exploration");
+[[nodiscard]] inline TwinCase parse_twin_case(std::string_view text,
+                                              std::string_view what = "case") {
+  return parse_name(twin_case_names, text, what);
+}
+[[nodiscard]] inline Nonlinearity parse_nonlinearity(std::string_view text,
+                                                     std::string_view what = "nonlinearity") {
+  return parse_name(nonlinearity_names, text, what);
+}
 
 }  // namespace twincal

@@ -13,12 +13,15 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "twincal/controllers/exploration_kind.hpp"
 #include "twincal/controllers/lookahead_options.hpp"
 #include "twincal/controllers/paper_settings.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/controller_spec.hpp"
 #include "twincal/experiments/experiment_choices.hpp"
 #include "twincal/experiments/external_twin_settings.hpp"
+#include "twincal/filters/filter_scheme.hpp"
+#include "twincal/samplers/candidate_sampler.hpp"
 
 namespace twincal {
 

@@ -30,9 +30,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/any_controller.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
-#include "twincal/experiments/any_controller.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/controller_spec.hpp"
 #include "twincal/experiments/experiment_config.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// `AnyController`: a type-erased controller over AssemblyId (controllers' controller.hpp), so
-/// that the episode loop, `twincal serve` and the Python bindings drive every controller the
+/// `AnyController`: a type-erased controller over AssemblyId (controller.hpp), so that the
+/// experiments' episode loop, `twincal serve` and the Python bindings drive every controller the
 /// experiments build — baseline, nominal, default, the w-controllers over every filter, sampler
 /// and loss, per-component, active — through one type, compiled once. Controls and estimates go
 /// in and out through Eigen::Ref, so a fixed-size controller (d = 1, 3) keeps its fixed-size
@@ -56,9 +56,9 @@ class AnyController {
   /// The wrapped controller's snapshot (SnapshotController, controllers' controller.hpp): what
   /// it carries from one assembly to the next, as JSON that reads back bit for bit.
   [[nodiscard]] nlohmann::json save() const { return model_->save(); }
-  /// Restores a save() of a controller built with the same arguments (make_episode_controller
-  /// with the same twin, config, spec and run): from then on it behaves bit for bit like the
-  /// saved one. @throws the controller's typed errors (InvalidArgumentError,
+  /// Restores a save() of a controller built with the same arguments (e.g. the experiments'
+  /// make_episode_controller with the same twin, config, spec and run): from then on it behaves
+  /// bit for bit like the saved one. @throws the controller's typed errors (InvalidArgumentError,
   ///         DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError) naming the
   ///         field; the controller unchanged.
   void restore(const nlohmann::json& saved) { model_->restore(saved); }

@@ -3,19 +3,18 @@
 /// `AnySampler`: the candidate sampler of eq. (14) chosen at run time (Sobol with a linear
 /// matrix scramble and digital shift — QMCPy's default, the paper's — Halton scrambled, i.i.d.
 /// uniform, or Latin hypercube), one Sampler type for the w-controller so a sampler ablation does
-/// not multiply the controller's instantiations. One dispatch per batch. A SnapshotSampler
-/// (controllers' sampler_state.hpp): save() and restore() keep its position for controller
-/// snapshots.
+/// not multiply the controller's instantiations. One dispatch per batch. `visit` reaches the
+/// wrapped sampler, e.g. for the SnapshotSampler hooks in controllers' sampler_state.hpp.
 
 #include <cstdint>
+#include <utility>
 #include <variant>
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
-#include "twincal/controllers/sampler_state.hpp"
 #include "twincal/core/eigen.hpp"
-#include "twincal/experiments/experiment_choices.hpp"
+#include "twincal/samplers/balance_check.hpp"
+#include "twincal/samplers/candidate_sampler.hpp"
 #include "twincal/samplers/halton.hpp"
 #include "twincal/samplers/latin_hypercube.hpp"
 #include "twincal/samplers/pseudo_random.hpp"
@@ -45,16 +44,14 @@ class AnySampler {
     std::visit([&points](auto& s) { s.fill(points); }, sampler_);
   }
 
-  /// Where the sampler is: the wrapped sampler's save_sampler (a Sobol or Halton seed and
-  /// position, a random stream), whose format names the kind.
-  [[nodiscard]] nlohmann::json save() const {
-    return std::visit([](const auto& s) { return save_sampler(s); }, sampler_);
+  /// `f(sampler)` on the wrapped sampler (a Sobol, Halton, PseudoRandom or LatinHypercube).
+  template <typename F>
+  decltype(auto) visit(F&& f) const {
+    return std::visit(std::forward<F>(f), sampler_);
   }
-  /// Restores a save() of a sampler of the same kind and dimension.
-  /// @throws InvalidArgumentError (another kind: its format; a field), DimensionMismatchError;
-  ///         the sampler unchanged.
-  void restore(const nlohmann::json& saved) {
-    std::visit([&saved](auto& s) { restore_sampler(s, saved); }, sampler_);
+  template <typename F>
+  decltype(auto) visit(F&& f) {
+    return std::visit(std::forward<F>(f), sampler_);
   }
 
  private:
@@ -79,15 +76,6 @@ class AnySampler {
   Variant sampler_;
 };
 
-/// The SnapshotSampler hooks (controllers' sampler_state.hpp), found by ADL.
-[[nodiscard]] inline nlohmann::json save_sampler(const AnySampler& sampler) {
-  return sampler.save();
-}
-inline void restore_sampler(AnySampler& sampler, const nlohmann::json& saved) {
-  sampler.restore(saved);
-}
-
 static_assert(Sampler<AnySampler>);
-static_assert(SnapshotSampler<AnySampler>);
 
 }  // namespace twincal

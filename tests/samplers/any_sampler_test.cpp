@@ -1,6 +1,14 @@
-#include "twincal/experiments/any_sampler.hpp"
+#include "twincal/samplers/any_sampler.hpp"
+
+#include <cstdint>
 
 #include <gtest/gtest.h>
+
+#include "twincal/samplers/balance_check.hpp"
+#include "twincal/samplers/candidate_sampler.hpp"
+#include "twincal/samplers/halton.hpp"
+#include "twincal/samplers/sobol.hpp"
+#include "twincal/samplers/testing/sampler_conformance.hpp"
 
 namespace twincal {
 namespace {
@@ -47,5 +55,24 @@ TEST(AnySampler, EveryKindFillsTheUnitCube) {
   }
 }
 
+// The conformance suite (samplers/testing/sampler_conformance.hpp) over every kind: a run-time
+// choice is a Sampler like the samplers it wraps.
+template <CandidateSampler Kind>
+struct AnySamplerCase {
+  using Sampler = AnySampler;
+  static constexpr Index dimension = 5;
+  static constexpr bool is_sequence = Kind != CandidateSampler::latin_hypercube;
+  static constexpr bool is_randomized = true;
+  static Sampler make(Index d, std::uint64_t seed) { return AnySampler(Kind, d, seed); }
+};
+
+using AnySamplerKinds = ::testing::Types<
+    AnySamplerCase<CandidateSampler::sobol>, AnySamplerCase<CandidateSampler::halton>,
+    AnySamplerCase<CandidateSampler::random>, AnySamplerCase<CandidateSampler::latin_hypercube>>;
+
 }  // namespace
 }  // namespace twincal
+
+namespace twincal::conformance {
+INSTANTIATE_TYPED_TEST_SUITE_P(AnySampler, SamplerConformance, AnySamplerKinds);
+}  // namespace twincal::conformance

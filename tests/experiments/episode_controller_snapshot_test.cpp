@@ -1,9 +1,8 @@
-// Snapshots of every controller the experiments build (AnyController::save / restore): a
-// controller built with the same arguments and restored from a snapshot — after the snapshot
-// went through text, as `twincal serve` stores it — goes on bit for bit like the original, and a
-// bad snapshot is refused with a typed error naming the field, the controller unchanged.
-#include "twincal/experiments/any_controller.hpp"
-
+// Snapshots of every controller the experiments build (make_episode_controller, through
+// AnyController::save / restore): a controller built with the same arguments and restored from a
+// snapshot — after the snapshot went through text, as `twincal serve` stores it — goes on bit for
+// bit like the original, and a bad snapshot is refused with a typed error naming the field, the
+// controller unchanged.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -18,6 +17,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/any_controller.hpp"
+#include "twincal/controllers/exploration_kind.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/experiments/case_twin.hpp"
@@ -26,7 +27,9 @@
 #include "twincal/experiments/experiment_choices.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/twin_cases.hpp"
+#include "twincal/filters/filter_scheme.hpp"
 #include "twincal/models/bouncing_drift.hpp"
+#include "twincal/samplers/candidate_sampler.hpp"
 
 namespace twincal {
 namespace {
