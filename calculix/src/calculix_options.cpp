@@ -11,15 +11,12 @@
 namespace twincal {
 
 std::optional<std::string> CalculixOptions::validate() const {
-  // A nested option's problem, named by its path (section.thickness: …).
-  std::optional<std::string> section_problem = section.validate();
-  if (section_problem) section_problem = "section." + *section_problem;
   return first_problem(
       {rule::check(!executable.empty(), "executable", "empty", "must name the solver"),
        rule::check(!scratch_root.empty(), "scratch_root", "empty", "must name a directory"),
        rule::check(refinement >= 1 && refinement <= 16, "refinement", refinement,
                    "must lie in [1, 16]"),
-       std::move(section_problem),
+       rule::nested("section", section),
        rule::check(std::isfinite(nominal_gap) && nominal_gap >= 0.0, "nominal_gap", nominal_gap,
                    "must be finite and >= 0 (mm)"),
        rule::check(std::isfinite(gap_stiffness) && gap_stiffness > 0.0, "gap_stiffness",

@@ -17,11 +17,9 @@
 namespace twincal {
 
 std::optional<std::string> ContactSheetMetalTwinOptions::validate() const {
-  std::optional<std::string> solver_problem = solver.validate();
-  if (solver_problem) solver_problem = "solver." + *solver_problem;
   return first_problem({rule::check(std::isfinite(nominal_gap) && nominal_gap >= 0.0, "nominal_gap",
                                     nominal_gap, "must be finite and >= 0 (mm)"),
-                        std::move(solver_problem)});
+                        rule::nested("solver", solver)});
 }
 
 struct ContactSheetMetalTwin::Precomputed {

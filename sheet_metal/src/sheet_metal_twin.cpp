@@ -34,11 +34,7 @@ void require_parts(std::string_view name, const std::vector<VectorX>& parts, Ind
 }  // namespace
 
 std::optional<std::string> SheetMetalTwinOptions::validate() const {
-  std::optional<std::string> section_problem = section.validate();
-  if (section_problem) section_problem = "section." + *section_problem;
-  std::optional<std::string> field_problem = field.validate();
-  if (field_problem) field_problem = "field." + *field_problem;
-  return first_problem({std::move(section_problem), std::move(field_problem),
+  return first_problem({rule::nested("section", section), rule::nested("field", field),
                         rule::at_least("upper_parts", upper_parts, decltype(upper_parts){1}),
                         rule::at_least("lower_parts", lower_parts, decltype(lower_parts){1}),
                         rule::positive_finite("locator_bound", locator_bound)});

@@ -194,7 +194,7 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
             "relinearization_budget: value is -1; rule: must be finite and >= 0");
   EXPECT_EQ(
       ActiveOptions{.audit_period = 1}.validate(),
-      "audit_period and audit_window: value is 1 and 10; rule: audit_period = 0 (no audit), or "
+      "audit_period and audit_window: values are 1 and 10; rule: audit_period = 0 (no audit), or "
       "audit_period >= 2 and audit_window >= 3");
   EXPECT_EQ(ActiveOptions{.audit_misfit = 0.5}.validate(),
             "audit_misfit: value is 0.5; rule: must be finite and >= 1");

@@ -106,7 +106,7 @@ TEST(NloptOptimizerOptions, ValidateNamesTheField) {
   EXPECT_EQ(NloptOptimizerOptions{.local_algorithm = NLOPT_LD_LBFGS}.validate(),
             "local_algorithm: value is LD_LBFGS; rule: must be a derivative-free local (LN_) one");
   EXPECT_EQ((NloptOptimizerOptions{.global_evaluations = 0, .local_evaluations = 0}.validate()),
-            "global_evaluations and local_evaluations: value is 0 and 0; rule: at least one "
+            "global_evaluations and local_evaluations: values are 0 and 0; rule: at least one "
             "phase must run");
   EXPECT_THAT([] { NloptOptimizer{{.x_tolerance = -1.0}}; },
               ThrowsMessage<InvalidArgumentError>(

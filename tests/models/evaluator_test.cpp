@@ -257,7 +257,7 @@ TEST(Evaluator, RejectsInvalidOptions) {
   EXPECT_THAT(
       [&] { (void)Evaluator<ScriptedTwin>(twin, {}, {.time_limit = std::chrono::nanoseconds{0}}); },
       ::testing::ThrowsMessage<InvalidArgumentError>(
-          "options: time_limit is 0 ns; rule: must be > 0"));
+          "options: time_limit: value is 0; rule: must be > 0 (ns)"));
   struct Unhashable {
     int id = 0;
   };

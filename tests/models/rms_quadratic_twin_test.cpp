@@ -60,14 +60,14 @@ TEST(AnalyticAssemblySet, RejectsInvalidOptionsAndUnknownAssemblies) {
   bad.optimum_half_width = 2.0;
   EXPECT_THAT([&] { (void)AnalyticAssemblySet(bad, RandomStream(1)); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: optimum_half_width and bound are 2 and 1; rule: 0 <= "
+                  "options: optimum_half_width and bound: values are 2 and 1; rule: 0 <= "
                   "optimum_half_width < bound < inf (every optimum is admissible)"));
   AnalyticAssemblyOptions names;
   names.locator_names = {"A", "B"};
   EXPECT_THAT([&] { (void)AnalyticAssemblySet(names, RandomStream(1)); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: locator_names has 2 names; rule: must be empty or have dimension "
-                  "= 3"));
+                  "options: locator_names: value is A, B; rule: must be empty or hold "
+                  "dimension = 3 names"));
   const AnalyticAssemblySet set(AnalyticAssemblyOptions{}, RandomStream(1));
   EXPECT_THAT(
       [&] {
@@ -158,7 +158,7 @@ TEST(RmsQuadraticTwin, RejectsBadArguments) {
   bad.min_curvature = 0.0;
   EXPECT_THAT([&] { (void)RmsQuadraticTwin::generate(bad, RandomStream(1)); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: min_curvature and max_curvature are 0 and 5; rule: 0 < "
+                  "options: min_curvature and max_curvature: values are 0 and 5; rule: 0 < "
                   "min_curvature <= max_curvature < inf"));
   const AnalyticAssemblySet set(AnalyticAssemblyOptions{}, RandomStream(1));
   EXPECT_THROW((void)RmsQuadraticTwin(set, MatrixX::Identity(2, 2)), DimensionMismatchError);

@@ -76,13 +76,12 @@ TEST(RuggedTwin, RejectsInvalidOptions) {
   bad.wavelength = 0.0;
   EXPECT_THAT([&] { (void)RuggedTwin(bad, RandomStream(1)); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: wavelength is 0; rule: must be finite and > 0"));
+                  "options: wavelength: value is 0; rule: must be finite and > 0"));
   bad = default_options();
   bad.assemblies.upper_parts = 0;
   EXPECT_THAT([&] { (void)RuggedTwin(bad, RandomStream(1)); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: assemblies.upper_parts and lower_parts are 0 and 10; rule: must be "
-                  ">= 1"));
+                  "options: assemblies.upper_parts: value is 0; rule: must be >= 1"));
 }
 
 }  // namespace

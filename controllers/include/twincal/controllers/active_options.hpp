@@ -89,35 +89,31 @@ struct ActiveOptions {
   double audit_misfit = 4.0;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (auto problem = first_problem(
-            {rule::positive_finite("measurement_variance", measurement_variance),
-             rule::positive_finite("initial_variance", initial_variance),
-             rule::positive_finite("min_process_variance", min_process_variance),
-             rule::positive_finite("max_process_variance", max_process_variance),
-             rule::check(min_process_variance <= process_variance &&
-                             process_variance <= max_process_variance,
-                         "process_variance", process_variance,
-                         "must lie in [min_process_variance, max_process_variance] = [{}, {}]",
-                         min_process_variance, max_process_variance),
-             rule::in_closed("adaptation_rate", adaptation_rate, 0.0, 1.0),
-             rule::finite_at_least("max_horizon", max_horizon, 1.0),
-             rule::in_left_open("max_probe_fraction", max_probe_fraction, 0.0, 1.0),
-             rule::in_closed("max_offset_fraction", max_offset_fraction, 0.0, 1.0),
-             rule::positive_finite("innovation_gate", innovation_gate),
-             rule::positive_finite("covariance_floor", covariance_floor),
-             rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
-             rule::at_least("quadratic_retry", quadratic_retry, Index{1}),
-             rule::non_negative_finite("relinearization_budget", relinearization_budget),
-             rule::check(audit_period == 0 || (audit_period >= 2 && audit_window >= 3),
-                         "audit_period and audit_window",
-                         fmt::join(std::array{audit_period, audit_window}, " and "),
-                         "audit_period = 0 (no audit), or audit_period >= 2 and audit_window >= 3"),
-             rule::finite_at_least("audit_misfit", audit_misfit, 1.0)})) {
-      return problem;
-    }
-    if (auto problem = surrogate.validate()) return "surrogate." + *problem;
-    if (auto problem = trajectory.validate()) return "trajectory." + *problem;
-    return std::nullopt;
+    return first_problem(
+        {rule::positive_finite("measurement_variance", measurement_variance),
+         rule::positive_finite("initial_variance", initial_variance),
+         rule::positive_finite("min_process_variance", min_process_variance),
+         rule::positive_finite("max_process_variance", max_process_variance),
+         rule::check(
+             min_process_variance <= process_variance && process_variance <= max_process_variance,
+             "process_variance", process_variance,
+             "must lie in [min_process_variance, max_process_variance] = [{}, {}]",
+             min_process_variance, max_process_variance),
+         rule::in_closed("adaptation_rate", adaptation_rate, 0.0, 1.0),
+         rule::finite_at_least("max_horizon", max_horizon, 1.0),
+         rule::in_left_open("max_probe_fraction", max_probe_fraction, 0.0, 1.0),
+         rule::in_closed("max_offset_fraction", max_offset_fraction, 0.0, 1.0),
+         rule::positive_finite("innovation_gate", innovation_gate),
+         rule::positive_finite("covariance_floor", covariance_floor),
+         rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
+         rule::at_least("quadratic_retry", quadratic_retry, Index{1}),
+         rule::non_negative_finite("relinearization_budget", relinearization_budget),
+         rule::check_fields(
+             audit_period == 0 || (audit_period >= 2 && audit_window >= 3),
+             "audit_period and audit_window", std::array{audit_period, audit_window},
+             "audit_period = 0 (no audit), or audit_period >= 2 and audit_window >= 3"),
+         rule::finite_at_least("audit_misfit", audit_misfit, 1.0),
+         rule::nested("surrogate", surrogate), rule::nested("trajectory", trajectory)});
   }
 };
 

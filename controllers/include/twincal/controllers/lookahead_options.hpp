@@ -35,16 +35,12 @@ struct LookaheadOptions {
   }
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (auto problem =
-            first_problem({rule::in_closed("w", w, 0.0, 1.0),
-                           rule::positive_finite("box_half_width", box_half_width),
-                           rule::check(!candidates || *candidates >= 1, "candidates",
-                                       candidates.value_or(0), "must be >= 1 (unset: 2^(2+d))"),
-                           rule::at_least("max_batches", max_batches, Index{1})})) {
-      return problem;
-    }
-    if (auto problem = transform.validate()) return "transform." + *problem;
-    return std::nullopt;
+    return first_problem({rule::in_closed("w", w, 0.0, 1.0),
+                          rule::positive_finite("box_half_width", box_half_width),
+                          rule::check(!candidates || *candidates >= 1, "candidates",
+                                      candidates.value_or(0), "must be >= 1 (unset: 2^(2+d))"),
+                          rule::at_least("max_batches", max_batches, Index{1}),
+                          rule::nested("transform", transform)});
   }
 };
 

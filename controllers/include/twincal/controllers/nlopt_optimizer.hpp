@@ -9,6 +9,7 @@
 /// unchanged; a non-finite objective value stops it with NonFiniteError naming the control.
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <exception>
@@ -47,9 +48,10 @@ struct NloptOptimizerOptions {
                      "must be a derivative-free global (GN_) one"),
          rule::check(local.starts_with("LN_"), "local_algorithm", local,
                      "must be a derivative-free local (LN_) one"),
-         rule::check(global_evaluations > 0 || local_evaluations > 0,
-                     "global_evaluations and local_evaluations", "0 and 0",
-                     "at least one phase must run"),
+         rule::check_fields(global_evaluations > 0 || local_evaluations > 0,
+                            "global_evaluations and local_evaluations",
+                            std::array{global_evaluations, local_evaluations},
+                            "at least one phase must run"),
          rule::check(x_tolerance >= 0.0, "x_tolerance", x_tolerance, "must be >= 0"),
          rule::check(f_tolerance >= 0.0, "f_tolerance", f_tolerance, "must be >= 0")});
   }

@@ -12,10 +12,13 @@
 ///
 /// Each rule returns nothing when it holds, otherwise "<field>: value is <v>; rule: <rule>". A
 /// rule that relates several fields, or that no helper states, is written out in the same
-/// format ("<fields>: values are …; rule: …").
+/// format ("<fields>: values are …; rule: …"). A nested aggregate's problem is named by its path
+/// (`rule::nested("section", section)` → "section.thickness: value is …").
 
+#include <array>
 #include <cmath>
 #include <concepts>
+#include <cstddef>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -23,6 +26,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "twincal/core/error.hpp"
 
@@ -56,6 +60,18 @@ template <typename T, typename... Args>
   if (holds) return std::nullopt;
   // Forwarded: fmt takes a view (fmt::join of several fields) only as an rvalue.
   return fmt::format("{}: value is {}; rule: {}", field, std::forward<T>(value),
+                     fmt::format(rule, std::forward<Args>(args)...));
+}
+
+/// "<fields>: values are <v1> and <v2>…; rule: <rule formatted with args>" unless `holds`: a rule
+/// that relates several fields.
+template <typename T, std::size_t N, typename... Args>
+[[nodiscard]] std::optional<std::string> check_fields(bool holds, std::string_view fields,
+                                                      const std::array<T, N>& values,
+                                                      fmt::format_string<Args...> rule,
+                                                      Args&&... args) {
+  if (holds) return std::nullopt;
+  return fmt::format("{}: values are {}; rule: {}", fields, fmt::join(values, " and "),
                      fmt::format(rule, std::forward<Args>(args)...));
 }
 
@@ -109,10 +125,28 @@ template <typename T, typename... Args>
   return check(value > lo && value < hi, field, value, "must lie in ({}, {})", lo, hi);
 }
 
+/// Two fields that bound a range: 0 < low <= high < inf.
+[[nodiscard]] inline std::optional<std::string> positive_range(std::string_view low_field,
+                                                               double low,
+                                                               std::string_view high_field,
+                                                               double high) {
+  if (low > 0.0 && high >= low && std::isfinite(high)) return std::nullopt;
+  return check_fields(false, fmt::format("{} and {}", low_field, high_field), std::array{low, high},
+                      "0 < {} <= {} < inf", low_field, high_field);
+}
+
 /// An integer value >= least.
 template <std::integral I>
 [[nodiscard]] std::optional<std::string> at_least(std::string_view field, I value, I least) {
   return check(value >= least, field, value, "must be >= {}", least);
+}
+
+/// The problem of a nested options aggregate, named by its path: "<field>.<its problem>".
+template <ValidatableOptions Options>
+[[nodiscard]] std::optional<std::string> nested(std::string_view field, const Options& options) {
+  std::optional<std::string> problem = options.validate();
+  if (problem) problem->insert(0, fmt::format("{}.", field));
+  return problem;
 }
 
 }  // namespace rule

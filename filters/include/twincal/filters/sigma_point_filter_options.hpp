@@ -62,15 +62,11 @@ struct SigmaPointFilterOptions {
   }
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (auto problem = rule::check(
-            refresh == SigmaPointRefresh::redraw || refresh == SigmaPointRefresh::reuse_propagated,
-            "refresh", static_cast<int>(refresh), "must be redraw or reuse_propagated")) {
-      return problem;
-    }
-    if (std::optional<std::string> problem = factorization.validate()) {
-      return "factorization." + *problem;
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::check(
+             refresh == SigmaPointRefresh::redraw || refresh == SigmaPointRefresh::reuse_propagated,
+             "refresh", static_cast<int>(refresh), "must be redraw or reuse_propagated"),
+         rule::nested("factorization", factorization)});
   }
 };
 

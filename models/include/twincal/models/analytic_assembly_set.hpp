@@ -11,6 +11,7 @@
 /// with q0 parts uniform in [q0_min/2, q0_max/2] and a-part entries uniform in
 /// [−optimum_half_width/2, optimum_half_width/2].
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
@@ -40,26 +42,18 @@ struct AnalyticAssemblyOptions {
   std::vector<std::string> locator_names;  ///< d names; empty gives "u1", …, "ud"
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (dimension < 1) return fmt::format("dimension is {}; rule: must be >= 1", dimension);
-    if (upper_parts < 1 || lower_parts < 1) {
-      return fmt::format("upper_parts and lower_parts are {} and {}; rule: must be >= 1",
-                         upper_parts, lower_parts);
-    }
-    if (!(q0_min > 0.0) || !(q0_max >= q0_min) || !std::isfinite(q0_max)) {
-      return fmt::format("q0_min and q0_max are {} and {}; rule: 0 < q0_min <= q0_max < inf",
-                         q0_min, q0_max);
-    }
-    if (!(optimum_half_width >= 0.0) || !(bound > optimum_half_width) || !std::isfinite(bound)) {
-      return fmt::format(
-          "optimum_half_width and bound are {} and {}; rule: 0 <= optimum_half_width < bound < "
-          "inf (every optimum is admissible)",
-          optimum_half_width, bound);
-    }
-    if (!locator_names.empty() && std::ssize(locator_names) != dimension) {
-      return fmt::format("locator_names has {} names; rule: must be empty or have dimension = {}",
-                         locator_names.size(), dimension);
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::at_least("dimension", dimension, Index{1}),
+         rule::at_least("upper_parts", upper_parts, Index{1}),
+         rule::at_least("lower_parts", lower_parts, Index{1}),
+         rule::positive_range("q0_min", q0_min, "q0_max", q0_max),
+         rule::check_fields(
+             optimum_half_width >= 0.0 && bound > optimum_half_width && std::isfinite(bound),
+             "optimum_half_width and bound", std::array{optimum_half_width, bound},
+             "0 <= optimum_half_width < bound < inf (every optimum is admissible)"),
+         rule::check(locator_names.empty() || std::ssize(locator_names) == dimension,
+                     "locator_names", fmt::join(locator_names, ", "),
+                     "must be empty or hold dimension = {} names", dimension)});
   }
 };
 

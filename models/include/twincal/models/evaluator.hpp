@@ -58,10 +58,9 @@ struct EvaluatorOptions {
   bool memoize = false;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (time_limit && time_limit->count() <= 0) {
-      return fmt::format("time_limit is {} ns; rule: must be > 0", time_limit->count());
-    }
-    return std::nullopt;
+    return rule::check(!time_limit || time_limit->count() > 0, "time_limit",
+                       time_limit.value_or(std::chrono::nanoseconds{0}).count(),
+                       "must be > 0 (ns)");
   }
 };
 

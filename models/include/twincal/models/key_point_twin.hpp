@@ -41,22 +41,12 @@ struct KeyPointTwinOptions {
   double strength = 1.0;       ///< s of the nonlinearity (its header says what it scales)
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (auto problem = assemblies.validate()) return "assemblies." + *problem;
-    if (key_points <= assemblies.dimension) {
-      return fmt::format("key_points: value is {}; rule: must be > dimension = {}", key_points,
-                         assemblies.dimension);
-    }
-    if (!(min_curvature > 0.0) || !(max_curvature >= min_curvature) ||
-        !std::isfinite(max_curvature)) {
-      return fmt::format(
-          "min_curvature and max_curvature: values are {} and {}; rule: 0 < min_curvature <= "
-          "max_curvature < inf",
-          min_curvature, max_curvature);
-    }
-    if (!(strength >= 0.0) || !std::isfinite(strength)) {
-      return fmt::format("strength: value is {}; rule: must be finite and >= 0", strength);
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::nested("assemblies", assemblies),
+         rule::check(key_points > assemblies.dimension, "key_points", key_points,
+                     "must be > dimension = {}", assemblies.dimension),
+         rule::positive_range("min_curvature", min_curvature, "max_curvature", max_curvature),
+         rule::non_negative_finite("strength", strength)});
   }
 };
 

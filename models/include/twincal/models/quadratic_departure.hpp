@@ -30,15 +30,9 @@ struct QuadraticDepartureOptions {
   Index points_per_coefficient = 10;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (!(half_width_fraction > 0.0) || !std::isfinite(half_width_fraction)) {
-      return fmt::format("half_width_fraction: value is {}; rule: must be finite and > 0",
-                         half_width_fraction);
-    }
-    if (points_per_coefficient < 2) {
-      return fmt::format("points_per_coefficient: value is {}; rule: must be >= 2",
-                         points_per_coefficient);
-    }
-    return std::nullopt;
+    return first_problem({rule::positive_finite("half_width_fraction", half_width_fraction),
+                          rule::at_least("points_per_coefficient", points_per_coefficient,
+                                         decltype(points_per_coefficient){2})});
   }
 };
 

@@ -33,15 +33,9 @@ struct RmsQuadraticTwinOptions {
   double max_curvature = 5.0;  ///< largest eigenvalue of H
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (auto problem = assemblies.validate()) return "assemblies." + *problem;
-    if (!(min_curvature > 0.0) || !(max_curvature >= min_curvature) ||
-        !std::isfinite(max_curvature)) {
-      return fmt::format(
-          "min_curvature and max_curvature are {} and {}; rule: 0 < min_curvature <= "
-          "max_curvature < inf",
-          min_curvature, max_curvature);
-    }
-    return std::nullopt;
+    return first_problem(
+        {rule::nested("assemblies", assemblies),
+         rule::positive_range("min_curvature", min_curvature, "max_curvature", max_curvature)});
   }
 };
 

@@ -33,17 +33,10 @@ struct RuggedTwinOptions {
   double wavelength = 0.1;  ///< λ: period of the ripple
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (auto problem = assemblies.validate()) return "assemblies." + *problem;
-    if (!(slope >= 0.0) || !std::isfinite(slope)) {
-      return fmt::format("slope is {}; rule: must be finite and >= 0", slope);
-    }
-    if (!(ripple >= 0.0) || !std::isfinite(ripple)) {
-      return fmt::format("ripple is {}; rule: must be finite and >= 0", ripple);
-    }
-    if (!(wavelength > 0.0) || !std::isfinite(wavelength)) {
-      return fmt::format("wavelength is {}; rule: must be finite and > 0", wavelength);
-    }
-    return std::nullopt;
+    return first_problem({rule::nested("assemblies", assemblies),
+                          rule::non_negative_finite("slope", slope),
+                          rule::non_negative_finite("ripple", ripple),
+                          rule::positive_finite("wavelength", wavelength)});
   }
 };
 
