@@ -156,20 +156,22 @@ ExperimentConfig read_config(
   if (const auto v = arguments.seed("twin-seed")) config.twin_seed = *v;
   if (const auto v = arguments.integer("dimension")) config.analytic_dimension = *v;
   if (const auto v = arguments.text("nonlinearity")) {
-    config.nonlinearity = parse_nonlinearity(*v, "--nonlinearity");
+    config.nonlinearity = parse_enum<Nonlinearity>(*v, "--nonlinearity");
   }
   if (const auto v = arguments.real("strength")) config.strength = *v;
-  if (const auto v = arguments.text("plant")) config.plant_case = parse_twin_case(*v, "--plant");
+  if (const auto v = arguments.text("plant"))
+    config.plant_case = parse_enum<TwinCase>(*v, "--plant");
   if (const auto v = arguments.text("plant-nonlinearity")) {
-    config.plant_nonlinearity = parse_nonlinearity(*v, "--plant-nonlinearity");
+    config.plant_nonlinearity = parse_enum<Nonlinearity>(*v, "--plant-nonlinearity");
   }
   if (const auto v = arguments.real("plant-strength")) config.plant_strength = *v;
-  if (const auto v = arguments.text("filter")) config.filter = parse_filter_scheme(*v, "--filter");
+  if (const auto v = arguments.text("filter"))
+    config.filter = parse_enum<FilterScheme>(*v, "--filter");
   if (const auto v = arguments.text("sampler")) {
-    config.sampler = parse_candidate_sampler(*v, "--sampler");
+    config.sampler = parse_enum<CandidateSampler>(*v, "--sampler");
   }
   if (const auto v = arguments.text("exploration")) {
-    config.exploration = parse_exploration_kind(*v, "--exploration");
+    config.exploration = parse_enum<ExplorationKind>(*v, "--exploration");
   }
   if (const auto v = arguments.integer("candidates")) config.candidates = *v;
   if (const auto v = arguments.text("controllers")) config.controllers = parse_controllers(*v);
@@ -377,7 +379,7 @@ Runs one configuration: one twin case and locator set, its controllers, N runs.
   Arguments arguments(args, common_flags);
   if (wants_help(arguments, help.c_str())) return 0;
   ExperimentConfig config = read_config(arguments);
-  if (const auto v = arguments.text("case")) config.twin_case = parse_twin_case(*v, "--case");
+  if (const auto v = arguments.text("case")) config.twin_case = parse_enum<TwinCase>(*v, "--case");
   if (const auto v = arguments.text("locators")) config.locators = *v;
   if (const auto v = arguments.text("name")) config.name = *v;
   const fs::path out = arguments.text("out").value_or("results");
@@ -409,7 +411,7 @@ Table 1.
   if (which == "all") {
     cases = {TwinCase::body, TwinCase::door};
   } else {
-    cases = {parse_twin_case(which, "--case")};
+    cases = {parse_enum<TwinCase>(which, "--case")};
   }
   const fs::path out = arguments.text("out").value_or("results/paper");
   const ExecutionOptions options = read_execution_options(arguments);
@@ -492,7 +494,8 @@ residual, diverged and lost fractions and Q-evaluations against the strength.
   } else if (!base.candidate_cap) {
     base.candidate_cap = 1024;
   }
-  const TwinCase twin_case = parse_twin_case(arguments.text("case").value_or("analytic"), "--case");
+  const TwinCase twin_case =
+      parse_enum<TwinCase>(arguments.text("case").value_or("analytic"), "--case");
   const std::optional<std::string> list = arguments.text("dimensions");
   const std::optional<std::string> strength_list = arguments.text("strengths");
   if (base.nonlinearity != Nonlinearity::none) {
@@ -902,7 +905,7 @@ proposal and observation is in the database before its reply is sent; after a cr
     ServeOptions options;
     options.config = read_config(arguments, {ControllerSpec::active()});
     if (const auto v = arguments.text("case")) {
-      options.config.twin_case = parse_twin_case(*v, "--case");
+      options.config.twin_case = parse_enum<TwinCase>(*v, "--case");
     }
     if (const auto v = arguments.text("locators")) options.config.locators = *v;
     if (options.config.controllers.size() != 1) {

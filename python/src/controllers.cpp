@@ -97,7 +97,7 @@ LookaheadOptions lookahead_options(double w, const std::optional<Index>& candida
 // (sensitivity_weights.hpp) over its `assemblies` attribute. Called with the GIL held.
 AnyExplorationLoss exploration_loss(const std::string& kind, const std::optional<VectorX>& weights,
                                     const PythonTwin& twin) {
-  return make_exploration_loss(parse_exploration_kind(kind), [&]() -> VectorX {
+  return make_exploration_loss(parse_enum<ExplorationKind>(kind, "exploration"), [&]() -> VectorX {
     if (weights) {
       require_dimension("weights", weights->size(), twin.control_dimension());
       return *weights;
@@ -209,7 +209,7 @@ void bind_controllers(py::module_& module) {
                        const std::optional<VectorX>& weights, double measurement_variance,
                        double process_variance, double initial_variance) {
              const LookaheadOptions options = lookahead_options(w, candidates, box_half_width);
-             const CandidateSampler sampler_kind = parse_candidate_sampler(sampler);
+             const CandidateSampler sampler_kind = parse_enum<CandidateSampler>(sampler, "sampler");
              const PaperSettings settings =
                  paper_settings(measurement_variance, process_variance, initial_variance);
              return make_object<Lookahead>(std::move(twin), [&](const PythonTwin& t) {

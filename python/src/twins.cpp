@@ -47,7 +47,7 @@ namespace {
 NativeTwin make_native_twin(const std::string& twin_case, const std::string& locators,
                             Index dimension, std::uint64_t seed) {
   ExperimentConfig config;
-  config.twin_case = parse_twin_case(twin_case);
+  config.twin_case = parse_enum<TwinCase>(twin_case, "case");
   config.locators = locators;
   config.analytic_dimension = dimension;
   config.twin_seed = seed;

@@ -8,7 +8,7 @@ namespace {
 TEST(ExplorationKindNames, EverySpellingParsesBack) {
   for (const ExplorationKind v : {ExplorationKind::trace, ExplorationKind::weighted_trace,
                                   ExplorationKind::log_det, ExplorationKind::max_eigenvalue}) {
-    EXPECT_EQ(parse_exploration_kind(to_string(v)), v);
+    EXPECT_EQ(parse_enum<ExplorationKind>(to_string(v), "exploration"), v);
   }
 }
 

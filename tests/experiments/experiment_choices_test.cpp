@@ -9,7 +9,7 @@ namespace {
 
 TEST(ExperimentChoices, EverySpellingParsesBack) {
   for (const TwinCase v : {TwinCase::body, TwinCase::door, TwinCase::analytic}) {
-    EXPECT_EQ(parse_twin_case(to_string(v)), v);
+    EXPECT_EQ(parse_enum<TwinCase>(to_string(v), "case"), v);
   }
 }
 

@@ -62,7 +62,7 @@ TEST(TwinCases, SheetMetalCasesAreTheFemTwin) {
 }
 
 TEST(TwinCases, ContactCasesAreTheFemCasesWithContact) {
-  EXPECT_EQ(parse_twin_case("body-contact"), TwinCase::body_contact);
+  EXPECT_EQ(parse_enum<TwinCase>("body-contact", "case"), TwinCase::body_contact);
   EXPECT_EQ(to_string(TwinCase::door_contact), "door-contact");
   for (const auto& [contact_case, linear_case] :
        {std::pair{TwinCase::body_contact, TwinCase::body},

@@ -12,13 +12,13 @@ namespace {
 TEST(FilterSchemeNames, EverySpellingParsesBack) {
   for (const FilterScheme v : {FilterScheme::merwe, FilterScheme::julier, FilterScheme::cubature,
                                FilterScheme::fifth_degree, FilterScheme::simplex}) {
-    EXPECT_EQ(parse_filter_scheme(to_string(v)), v);
+    EXPECT_EQ(parse_enum<FilterScheme>(to_string(v), "filter"), v);
   }
 }
 
 TEST(FilterSchemeNames, AnUnknownSpellingNamesTheSettingAndTheChoices) {
   try {
-    (void)parse_filter_scheme("ukf", "--filter");
+    (void)parse_enum<FilterScheme>("ukf", "--filter");
     FAIL() << "no error";
   } catch (const InvalidArgumentError& error) {
     EXPECT_EQ(error.argument(), "--filter");

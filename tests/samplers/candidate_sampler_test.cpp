@@ -8,7 +8,7 @@ namespace {
 TEST(CandidateSamplerNames, EverySpellingParsesBack) {
   for (const CandidateSampler v : {CandidateSampler::sobol, CandidateSampler::halton,
                                    CandidateSampler::random, CandidateSampler::latin_hypercube}) {
-    EXPECT_EQ(parse_candidate_sampler(to_string(v)), v);
+    EXPECT_EQ(parse_enum<CandidateSampler>(to_string(v), "sampler"), v);
   }
 }
 

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/named_enum.hpp"
 #include "twincal/experiments/strict_json.hpp"
 
 namespace twincal {
@@ -197,28 +198,27 @@ Field optional(std::optional<T> ExperimentConfig::*member, std::string_view key)
           }};
 }
 
-template <typename Enum>
-Field choice(Enum ExperimentConfig::*member, std::string_view key,
-             Enum (*parse)(std::string_view, std::string_view)) {
+template <NamedEnum Enum>
+Field choice(Enum ExperimentConfig::*member, std::string_view key) {
   return {[member, key](json& j, const ExperimentConfig& c) {
             j[std::string(key)] = std::string(to_string(c.*member));
           },
-          [member, key, parse](const json& v, ExperimentConfig& c) {
-            c.*member = parse(strict_value<std::string>(v, key), key);
+          [member, key](const json& v, ExperimentConfig& c) {
+            c.*member = parse_enum<Enum>(strict_value<std::string>(v, key), key);
           }};
 }
 
-template <typename Enum>
-Field optional_choice(std::optional<Enum> ExperimentConfig::*member, std::string_view key,
-                      Enum (*parse)(std::string_view, std::string_view)) {
+template <NamedEnum Enum>
+Field optional_choice(std::optional<Enum> ExperimentConfig::*member, std::string_view key) {
   return {[member, key](json& j, const ExperimentConfig& c) {
             j[std::string(key)] =
                 c.*member ? json(std::string(to_string(*(c.*member)))) : json(nullptr);
           },
-          [member, key, parse](const json& v, ExperimentConfig& c) {
-            c.*member = v.is_null()
-                            ? std::nullopt
-                            : std::optional<Enum>(parse(strict_value<std::string>(v, key), key));
+          [member, key](const json& v, ExperimentConfig& c) {
+            c.*member =
+                v.is_null()
+                    ? std::nullopt
+                    : std::optional<Enum>(parse_enum<Enum>(strict_value<std::string>(v, key), key));
           }};
 }
 
@@ -226,16 +226,14 @@ const std::map<std::string, Field, std::less<>>& fields() {
   static const std::map<std::string, Field, std::less<>> table = [] {
     std::map<std::string, Field, std::less<>> t;
     t["name"] = plain(&ExperimentConfig::name, "name");
-    t["case"] = choice(&ExperimentConfig::twin_case, "case", &parse_twin_case);
+    t["case"] = choice(&ExperimentConfig::twin_case, "case");
     t["twin_seed"] = plain(&ExperimentConfig::twin_seed, "twin_seed");
     t["analytic_dimension"] = plain(&ExperimentConfig::analytic_dimension, "analytic_dimension");
-    t["nonlinearity"] =
-        choice(&ExperimentConfig::nonlinearity, "nonlinearity", &parse_nonlinearity);
+    t["nonlinearity"] = choice(&ExperimentConfig::nonlinearity, "nonlinearity");
     t["strength"] = plain(&ExperimentConfig::strength, "strength");
-    t["plant_case"] =
-        optional_choice(&ExperimentConfig::plant_case, "plant_case", &parse_twin_case);
-    t["plant_nonlinearity"] = optional_choice(&ExperimentConfig::plant_nonlinearity,
-                                              "plant_nonlinearity", &parse_nonlinearity);
+    t["plant_case"] = optional_choice(&ExperimentConfig::plant_case, "plant_case");
+    t["plant_nonlinearity"] =
+        optional_choice(&ExperimentConfig::plant_nonlinearity, "plant_nonlinearity");
     t["plant_strength"] = optional(&ExperimentConfig::plant_strength, "plant_strength");
     t["external_twin"] = optional(&ExperimentConfig::external_twin, "external_twin");
     t["plant_external_twin"] =
@@ -273,13 +271,12 @@ const std::map<std::string, Field, std::less<>>& fields() {
             c.controllers.push_back(ControllerSpec::parse(label));
           }
         }};
-    t["filter"] = choice(&ExperimentConfig::filter, "filter", &parse_filter_scheme);
+    t["filter"] = choice(&ExperimentConfig::filter, "filter");
     t["alpha"] = plain(&ExperimentConfig::alpha, "alpha");
     t["beta"] = plain(&ExperimentConfig::beta, "beta");
     t["kappa"] = plain(&ExperimentConfig::kappa, "kappa");
-    t["sampler"] = choice(&ExperimentConfig::sampler, "sampler", &parse_candidate_sampler);
-    t["exploration"] =
-        choice(&ExperimentConfig::exploration, "exploration", &parse_exploration_kind);
+    t["sampler"] = choice(&ExperimentConfig::sampler, "sampler");
+    t["exploration"] = choice(&ExperimentConfig::exploration, "exploration");
     t["candidates"] = optional(&ExperimentConfig::candidates, "candidates");
     t["candidate_cap"] = optional(&ExperimentConfig::candidate_cap, "candidate_cap");
     t["keep_drawing"] = plain(&ExperimentConfig::keep_drawing, "keep_drawing");

@@ -31,9 +31,9 @@ int main(int argc, char** argv) {
     if (which == "analytic" || which == "contact" || which == "stiffening" || which == "kink") {
       config.twin_case = TwinCase::analytic;
       config.analytic_dimension = argc > 2 ? std::stol(argv[2]) : 3;
-      if (which != "analytic") config.nonlinearity = parse_nonlinearity(which, "CASE");
+      if (which != "analytic") config.nonlinearity = parse_enum<Nonlinearity>(which, "CASE");
     } else {
-      config.twin_case = parse_twin_case(which, "CASE");
+      config.twin_case = parse_enum<TwinCase>(which, "CASE");
     }
     const double factor = argc > 3 ? std::stod(argv[3]) : 1.0;
     const AnyTwin twin = make_twin(config);

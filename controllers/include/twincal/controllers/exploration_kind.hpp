@@ -6,30 +6,23 @@
 
 #include <array>
 #include <string_view>
+#include <type_traits>
 
-#include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 
 namespace twincal {
 
 /// The exploration loss of eq. (12) (the paper's is trace).
 enum class ExplorationKind { trace, weighted_trace, log_det, max_eigenvalue };
 
-/// The spellings in configs and on the command line (name_table.hpp).
-inline constexpr auto exploration_kind_names = std::to_array<NameEntry<ExplorationKind>>(
-    {{ExplorationKind::trace, "trace"},
-     {ExplorationKind::weighted_trace, "weighted_trace"},
-     {ExplorationKind::log_det, "log_det"},
-     {ExplorationKind::max_eigenvalue, "max_eigenvalue"}});
-
-[[nodiscard]] constexpr std::string_view to_string(ExplorationKind value) noexcept {
-  return name_of(exploration_kind_names, value);
-}
-
-/// Parses a spelling; `what` names the setting in the error.
-/// @throws InvalidArgumentError "<what>: is \"x\"; rule: must be one of [a, b, …]".
-[[nodiscard]] inline ExplorationKind parse_exploration_kind(std::string_view text,
-                                                            std::string_view what = "exploration") {
-  return parse_name(exploration_kind_names, text, what);
+/// The spellings in configs and on the command line, for to_string and parse_enum
+/// (named_enum.hpp).
+[[nodiscard]] constexpr auto name_table(std::type_identity<ExplorationKind>) noexcept {
+  return std::to_array<NameEntry<ExplorationKind>>(
+      {{ExplorationKind::trace, "trace"},
+       {ExplorationKind::weighted_trace, "weighted_trace"},
+       {ExplorationKind::log_det, "log_det"},
+       {ExplorationKind::max_eigenvalue, "max_eigenvalue"}});
 }
 
 }  // namespace twincal

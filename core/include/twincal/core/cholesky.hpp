@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <Eigen/Cholesky>
@@ -31,7 +32,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/fixed_size_dispatch.hpp"
-#include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
 
@@ -44,14 +45,11 @@ enum class CovarianceRepair {
   nearest_pd,  ///< clip eigenvalues (nearest SPD matrix in the Frobenius norm)
 };
 
-/// The policies' spellings (name_table.hpp), one table for to_string and any parser.
-inline constexpr auto covariance_repair_names =
-    std::to_array<NameEntry<CovarianceRepair>>({{CovarianceRepair::none, "none"},
-                                                {CovarianceRepair::jitter, "jitter"},
-                                                {CovarianceRepair::nearest_pd, "nearest_pd"}});
-
-[[nodiscard]] constexpr std::string_view to_string(CovarianceRepair repair) noexcept {
-  return name_of(covariance_repair_names, repair);
+/// The policies' spellings, for to_string and parse_enum (named_enum.hpp).
+[[nodiscard]] constexpr auto name_table(std::type_identity<CovarianceRepair>) noexcept {
+  return std::to_array<NameEntry<CovarianceRepair>>({{CovarianceRepair::none, "none"},
+                                                     {CovarianceRepair::jitter, "jitter"},
+                                                     {CovarianceRepair::nearest_pd, "nearest_pd"}});
 }
 
 struct CholeskyOptions {

@@ -12,6 +12,7 @@
 #include "twincal/core/gaussian.hpp"
 #include "twincal/core/json_nesting.hpp"
 #include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/core/stopwatch.hpp"

@@ -1,13 +1,8 @@
 #pragma once
 /// @file
-/// The spellings of an enum's values, as one constexpr table kept beside the enum, so that
-/// `to_string` and parsing cannot disagree and a new value is one new row:
-///
-///     inline constexpr auto covariance_repair_names = std::to_array<NameEntry<CovarianceRepair>>(
-///         {{CovarianceRepair::none, "none"}, {CovarianceRepair::jitter, "jitter"}});
-///     constexpr std::string_view to_string(CovarianceRepair value) noexcept {
-///       return name_of(covariance_repair_names, value);
-///     }
+/// The spellings of an enum's values, as one constexpr table, read in both directions by
+/// `name_of` and `parse_name`. An enum declares its table through `name_table` and gets
+/// `to_string` and `parse_enum` from named_enum.hpp.
 ///
 /// `parse_name` refuses a spelling in the format of every twincal error, listing the choices:
 /// `<what>: is "x"; rule: must be one of [a, b, …]`.

@@ -6,31 +6,23 @@
 
 #include <array>
 #include <string_view>
+#include <type_traits>
 
-#include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 
 namespace twincal {
 
 /// The sigma-point scheme of the filter (the paper's UKF is merwe).
 enum class FilterScheme { merwe, julier, cubature, fifth_degree, simplex };
 
-/// The spellings in configs and on the command line (name_table.hpp).
-inline constexpr auto filter_scheme_names =
-    std::to_array<NameEntry<FilterScheme>>({{FilterScheme::merwe, "merwe"},
-                                            {FilterScheme::julier, "julier"},
-                                            {FilterScheme::cubature, "cubature"},
-                                            {FilterScheme::fifth_degree, "fifth_degree"},
-                                            {FilterScheme::simplex, "simplex"}});
-
-[[nodiscard]] constexpr std::string_view to_string(FilterScheme value) noexcept {
-  return name_of(filter_scheme_names, value);
-}
-
-/// Parses a spelling; `what` names the setting in the error.
-/// @throws InvalidArgumentError "<what>: is \"x\"; rule: must be one of [a, b, …]".
-[[nodiscard]] inline FilterScheme parse_filter_scheme(std::string_view text,
-                                                      std::string_view what = "filter") {
-  return parse_name(filter_scheme_names, text, what);
+/// The spellings in configs and on the command line, for to_string and parse_enum
+/// (named_enum.hpp).
+[[nodiscard]] constexpr auto name_table(std::type_identity<FilterScheme>) noexcept {
+  return std::to_array<NameEntry<FilterScheme>>({{FilterScheme::merwe, "merwe"},
+                                                 {FilterScheme::julier, "julier"},
+                                                 {FilterScheme::cubature, "cubature"},
+                                                 {FilterScheme::fifth_degree, "fifth_degree"},
+                                                 {FilterScheme::simplex, "simplex"}});
 }
 
 }  // namespace twincal

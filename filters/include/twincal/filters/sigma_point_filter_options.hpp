@@ -7,11 +7,12 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include <fmt/format.h>
 
 #include "twincal/core/cholesky.hpp"
-#include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 
 namespace twincal {
 
@@ -25,13 +26,11 @@ enum class SigmaPointRefresh {
   reuse_propagated,
 };
 
-/// The choices' spellings (name_table.hpp), one table for to_string and any parser.
-inline constexpr auto sigma_point_refresh_names = std::to_array<NameEntry<SigmaPointRefresh>>(
-    {{SigmaPointRefresh::redraw, "redraw"},
-     {SigmaPointRefresh::reuse_propagated, "reuse_propagated"}});
-
-[[nodiscard]] constexpr std::string_view to_string(SigmaPointRefresh refresh) noexcept {
-  return name_of(sigma_point_refresh_names, refresh);
+/// The choices' spellings, for to_string and parse_enum (named_enum.hpp).
+[[nodiscard]] constexpr auto name_table(std::type_identity<SigmaPointRefresh>) noexcept {
+  return std::to_array<NameEntry<SigmaPointRefresh>>(
+      {{SigmaPointRefresh::redraw, "redraw"},
+       {SigmaPointRefresh::reuse_propagated, "reuse_propagated"}});
 }
 
 struct SigmaPointFilterOptions {

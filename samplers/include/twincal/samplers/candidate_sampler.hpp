@@ -6,30 +6,23 @@
 
 #include <array>
 #include <string_view>
+#include <type_traits>
 
-#include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 
 namespace twincal {
 
 /// Where the candidate controls of eq. (14) come from (the paper's is sobol).
 enum class CandidateSampler { sobol, halton, random, latin_hypercube };
 
-/// The spellings in configs and on the command line (name_table.hpp).
-inline constexpr auto candidate_sampler_names = std::to_array<NameEntry<CandidateSampler>>(
-    {{CandidateSampler::sobol, "sobol"},
-     {CandidateSampler::halton, "halton"},
-     {CandidateSampler::random, "random"},
-     {CandidateSampler::latin_hypercube, "latin_hypercube"}});
-
-[[nodiscard]] constexpr std::string_view to_string(CandidateSampler value) noexcept {
-  return name_of(candidate_sampler_names, value);
-}
-
-/// Parses a spelling; `what` names the setting in the error.
-/// @throws InvalidArgumentError "<what>: is \"x\"; rule: must be one of [a, b, …]".
-[[nodiscard]] inline CandidateSampler parse_candidate_sampler(std::string_view text,
-                                                              std::string_view what = "sampler") {
-  return parse_name(candidate_sampler_names, text, what);
+/// The spellings in configs and on the command line, for to_string and parse_enum
+/// (named_enum.hpp).
+[[nodiscard]] constexpr auto name_table(std::type_identity<CandidateSampler>) noexcept {
+  return std::to_array<NameEntry<CandidateSampler>>(
+      {{CandidateSampler::sobol, "sobol"},
+       {CandidateSampler::halton, "halton"},
+       {CandidateSampler::random, "random"},
+       {CandidateSampler::latin_hypercube, "latin_hypercube"}});
 }
 
 }  // namespace twincal

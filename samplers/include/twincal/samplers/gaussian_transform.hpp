@@ -25,6 +25,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <Eigen/Cholesky>
@@ -33,7 +34,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
-#include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/samplers/normal_quantile.hpp"
@@ -46,13 +47,10 @@ enum class GaussianFactorization {
   eigen,     ///< A = V Λ^½, eigenvalues decreasing (principal components first)
 };
 
-/// The factors' spellings (name_table.hpp), one table for to_string and any parser.
-inline constexpr auto gaussian_factorization_names =
-    std::to_array<NameEntry<GaussianFactorization>>(
-        {{GaussianFactorization::cholesky, "cholesky"}, {GaussianFactorization::eigen, "eigen"}});
-
-[[nodiscard]] constexpr std::string_view to_string(GaussianFactorization f) noexcept {
-  return name_of(gaussian_factorization_names, f);
+/// The factors' spellings, for to_string and parse_enum (named_enum.hpp).
+[[nodiscard]] constexpr auto name_table(std::type_identity<GaussianFactorization>) noexcept {
+  return std::to_array<NameEntry<GaussianFactorization>>(
+      {{GaussianFactorization::cholesky, "cholesky"}, {GaussianFactorization::eigen, "eigen"}});
 }
 
 struct GaussianTransformOptions {

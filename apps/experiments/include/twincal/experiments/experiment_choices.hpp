@@ -7,8 +7,9 @@
 
 #include <array>
 #include <string_view>
+#include <type_traits>
 
-#include "twincal/core/name_table.hpp"
+#include "twincal/core/named_enum.hpp"
 
 namespace twincal {
 
@@ -22,36 +23,21 @@ enum class TwinCase { body, door, analytic, external, body_contact, door_contact
 /// none keeps the RMS-quadratic twin; contact, stiffening and kink make Q² non-quadratic.
 enum class Nonlinearity { none, contact, stiffening, kink };
 
-/// The spellings in configs and on the command line (name_table.hpp).
-inline constexpr auto twin_case_names =
-    std::to_array<NameEntry<TwinCase>>({{TwinCase::body, "body"},
-                                        {TwinCase::door, "door"},
-                                        {TwinCase::analytic, "analytic"},
-                                        {TwinCase::external, "external"},
-                                        {TwinCase::body_contact, "body-contact"},
-                                        {TwinCase::door_contact, "door-contact"}});
-inline constexpr auto nonlinearity_names =
-    std::to_array<NameEntry<Nonlinearity>>({{Nonlinearity::none, "none"},
-                                            {Nonlinearity::contact, "contact"},
-                                            {Nonlinearity::stiffening, "stiffening"},
-                                            {Nonlinearity::kink, "kink"}});
-
-[[nodiscard]] constexpr std::string_view to_string(TwinCase value) noexcept {
-  return name_of(twin_case_names, value);
+/// The spellings in configs and on the command line, for to_string and parse_enum
+/// (named_enum.hpp).
+[[nodiscard]] constexpr auto name_table(std::type_identity<TwinCase>) noexcept {
+  return std::to_array<NameEntry<TwinCase>>({{TwinCase::body, "body"},
+                                             {TwinCase::door, "door"},
+                                             {TwinCase::analytic, "analytic"},
+                                             {TwinCase::external, "external"},
+                                             {TwinCase::body_contact, "body-contact"},
+                                             {TwinCase::door_contact, "door-contact"}});
 }
-[[nodiscard]] constexpr std::string_view to_string(Nonlinearity value) noexcept {
-  return name_of(nonlinearity_names, value);
-}
-
-/// Parses a spelling; `what` names the setting in the error.
-/// @throws InvalidArgumentError "<what>: is \"x\"; rule: must be one of [a, b, …]".
-[[nodiscard]] inline TwinCase parse_twin_case(std::string_view text,
-                                              std::string_view what = "case") {
-  return parse_name(twin_case_names, text, what);
-}
-[[nodiscard]] inline Nonlinearity parse_nonlinearity(std::string_view text,
-                                                     std::string_view what = "nonlinearity") {
-  return parse_name(nonlinearity_names, text, what);
+[[nodiscard]] constexpr auto name_table(std::type_identity<Nonlinearity>) noexcept {
+  return std::to_array<NameEntry<Nonlinearity>>({{Nonlinearity::none, "none"},
+                                                 {Nonlinearity::contact, "contact"},
+                                                 {Nonlinearity::stiffening, "stiffening"},
+                                                 {Nonlinearity::kink, "kink"}});
 }
 
 }  // namespace twincal
