@@ -5,48 +5,32 @@
 #include <numeric>
 #include <utility>
 
-#include <fmt/format.h>
-
-#include "twincal/core/error.hpp"
-#include "twincal/core/validate.hpp"
-
 namespace twincal {
 
-LatinHypercube::LatinHypercube(Index dimension, LatinHypercubeOptions options)
-    : dimension_(dimension), options_(options), stream_(options.seed) {
-  if (dimension < 1) {
-    throw InvalidArgumentError(
-        "dimension", fmt::format("dimension: value is {}; rule: must be >= 1", dimension));
-  }
-}
-
-void LatinHypercube::seed(std::uint64_t value) {
-  options_.seed = value;
-  stream_ = RandomStream(value);
-}
-
-void LatinHypercube::discard(std::uint64_t count) {
+void LatinHypercubeDesigns::discard(RandomStream& stream, const Options& options, Index dimension,
+                                    std::uint64_t count) {
   if (count == 0) return;
-  MatrixX design(dimension_, static_cast<Index>(count));
-  fill(design);
+  MatrixX design(dimension, static_cast<Index>(count));
+  fill(stream, options, design);
 }
 
-void LatinHypercube::fill(Eigen::Ref<MatrixX> points) {
-  require_dimension("points", points.rows(), dimension_, "rows");
+void LatinHypercubeDesigns::fill(RandomStream& stream, const Options& options,
+                                 Eigen::Ref<MatrixX> points) {
+  const Index dimension = points.rows();
   const Index n = points.cols();
   if (n == 0) return;
   const double width = 1.0 / static_cast<double>(n);
   const double largest_below_one = std::nextafter(1.0, 0.0);
   permutation_.resize(static_cast<std::size_t>(n));
-  for (Index r = 0; r < dimension_; ++r) {
+  for (Index r = 0; r < dimension; ++r) {
     std::iota(permutation_.begin(), permutation_.end(), Index{0});
     for (Index i = n - 1; i > 0; --i) {  // Fisher–Yates
-      const auto k = stream_.uniform_int<Index>(0, i);
+      const auto k = stream.uniform_int<Index>(0, i);
       std::swap(permutation_[static_cast<std::size_t>(i)],
                 permutation_[static_cast<std::size_t>(k)]);
     }
     for (Index c = 0; c < n; ++c) {
-      const double offset = options_.centered ? 0.5 : stream_.uniform();
+      const double offset = options.centered ? 0.5 : stream.uniform();
       // (n − 1 + u)/n with u just below 1 rounds to 1; keep the point in its half-open cell.
       points(r, c) = std::min(
           (static_cast<double>(permutation_[static_cast<std::size_t>(c)]) + offset) * width,

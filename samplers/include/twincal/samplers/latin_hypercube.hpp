@@ -16,6 +16,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/samplers/random_stream_sampler.hpp"
 
 namespace twincal {
 
@@ -27,40 +28,22 @@ struct LatinHypercubeOptions {
   [[nodiscard]] std::optional<std::string> validate() const { return std::nullopt; }
 };
 
-/// Latin hypercube designs as a Sampler (see the file comment).
-class LatinHypercube {
+/// How LatinHypercube draws: one design per fill (see the file comment). Its permutation buffer
+/// is rebuilt by every fill, so the stream stays the sampler's whole state.
+class LatinHypercubeDesigns {
  public:
   using Options = LatinHypercubeOptions;
 
-  /// Throws InvalidArgumentError unless dimension >= 1.
-  explicit LatinHypercube(Index dimension, LatinHypercubeOptions options = {});
-
-  [[nodiscard]] Index dimension() const noexcept { return dimension_; }
-  [[nodiscard]] const LatinHypercubeOptions& options() const noexcept { return options_; }
-
-  /// Restarts the stream from `value` (stored as options().seed).
-  void seed(std::uint64_t value);
+  /// Fills the d × n matrix with one new design of n points.
+  void fill(RandomStream& stream, const Options& options, Eigen::Ref<MatrixX> points);
   /// Draws and drops a design of `count` points.
-  void discard(std::uint64_t count);
-  /// Fills the d × count matrix with one new design of count points. Throws
-  /// DimensionMismatchError unless rows == dimension().
-  void fill(Eigen::Ref<MatrixX> points);
-
-  /// The stream the designs come from: the sampler's whole state (controller snapshots save
-  /// it; the permutation buffer is rebuilt by every fill).
-  [[nodiscard]] const RandomStream& stream() const noexcept { return stream_; }
-  /// Continues from `stream`, a stream() saved earlier: the next designs are the ones the saved
-  /// sampler would have drawn. options().seed becomes the stream's seed.
-  void set_stream(const RandomStream& stream) {
-    options_.seed = stream.seed();
-    stream_ = stream;
-  }
+  void discard(RandomStream& stream, const Options& options, Index dimension, std::uint64_t count);
 
  private:
-  Index dimension_;
-  LatinHypercubeOptions options_;
-  RandomStream stream_;
   std::vector<Index> permutation_;  // reused between fills
 };
+
+/// Latin hypercube designs as a Sampler (see the file comment).
+using LatinHypercube = RandomStreamSampler<LatinHypercubeDesigns>;
 
 }  // namespace twincal

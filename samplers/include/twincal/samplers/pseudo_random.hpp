@@ -14,6 +14,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/samplers/random_stream_sampler.hpp"
 
 namespace twincal {
 
@@ -23,39 +24,19 @@ struct PseudoRandomOptions {
   [[nodiscard]] std::optional<std::string> validate() const { return std::nullopt; }
 };
 
-/// Independent U[0, 1)^d points as a Sampler.
-class PseudoRandom {
- public:
+/// How PseudoRandom draws: one engine draw per coordinate (see the file comment).
+struct UniformDraws {
   using Options = PseudoRandomOptions;
 
-  /// Throws InvalidArgumentError unless dimension >= 1.
-  explicit PseudoRandom(Index dimension, PseudoRandomOptions options = {});
-
-  [[nodiscard]] Index dimension() const noexcept { return dimension_; }
-  [[nodiscard]] const PseudoRandomOptions& options() const noexcept { return options_; }
-
-  /// Restarts the stream from `value` (stored as options().seed).
-  void seed(std::uint64_t value);
+  /// Fills the d × count matrix with the next count points.
+  void fill(RandomStream& stream, const Options& options, Eigen::Ref<MatrixX> points) const;
   /// Skips `count` points (count · d engine draws). Throws InvalidArgumentError if count · d
   /// overflows.
-  void discard(std::uint64_t count);
-  /// Fills the d × count matrix with the next count points. Throws DimensionMismatchError unless
-  /// rows == dimension().
-  void fill(Eigen::Ref<MatrixX> points);
-
-  /// The stream the points come from: the sampler's whole state (controller snapshots save it).
-  [[nodiscard]] const RandomStream& stream() const noexcept { return stream_; }
-  /// Continues from `stream`, a stream() saved earlier: the next points are the ones the saved
-  /// sampler would have drawn. options().seed becomes the stream's seed.
-  void set_stream(const RandomStream& stream) {
-    options_.seed = stream.seed();
-    stream_ = stream;
-  }
-
- private:
-  Index dimension_;
-  PseudoRandomOptions options_;
-  RandomStream stream_;
+  void discard(RandomStream& stream, const Options& options, Index dimension,
+               std::uint64_t count) const;
 };
+
+/// Independent U[0, 1)^d points as a Sampler.
+using PseudoRandom = RandomStreamSampler<UniformDraws>;
 
 }  // namespace twincal

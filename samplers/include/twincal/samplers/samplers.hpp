@@ -13,6 +13,7 @@
 #include "twincal/samplers/latin_hypercube.hpp"
 #include "twincal/samplers/normal_quantile.hpp"
 #include "twincal/samplers/pseudo_random.hpp"
+#include "twincal/samplers/random_stream_sampler.hpp"
 #include "twincal/samplers/sampler.hpp"
 #include "twincal/samplers/sobol.hpp"
 #include "twincal/samplers/sobol_direction_numbers.hpp"
