@@ -164,6 +164,24 @@ TEST(RequirePositiveDefinite, ChecksShapeFinitenessAndSymmetryFirst) {
               HasSubstr("P: relative asymmetry"));
 }
 
+TEST(RequireNormalParameters, ChecksTheMeanThenTheCovarianceOfItsSize) {
+  const Eigen::Vector2d mean(1.0, -1.0);
+  const Eigen::Matrix2d singular = Eigen::Vector2d(1.0, 1.0) * Eigen::RowVector2d(1.0, 1.0);
+  EXPECT_NO_THROW(require_normal_parameters("mean", mean, singular));
+  EXPECT_EQ(message_of<NonFiniteError>(
+                [&] { require_normal_parameters("start", Eigen::Vector2d(nan, 0.0), singular); }),
+            "start: entry 0 is nan; rule: every entry must be finite");
+  EXPECT_THROW(require_normal_parameters("mean", mean, Eigen::Matrix3d::Identity()),
+               DimensionMismatchError);
+  EXPECT_THAT(message_of<NotPositiveDefiniteError>(
+                  [&] { require_normal_parameters("mean", mean, Eigen::Matrix2d(-singular)); }),
+              HasSubstr("covariance: smallest eigenvalue"));
+  Eigen::Matrix2d asymmetric = Eigen::Matrix2d::Identity();
+  asymmetric(0, 1) = 1e-11;
+  EXPECT_THROW(require_normal_parameters("mean", mean, asymmetric), InvalidArgumentError);
+  EXPECT_NO_THROW(require_normal_parameters("mean", mean, asymmetric, 1e-10));
+}
+
 TEST(ErrorHierarchy, AllDeriveFromTwincalErrorAndStdException) {
   EXPECT_THROW(require_dimension("u", 1, 2), InvalidArgumentError);
   EXPECT_THROW(require_dimension("u", 1, 2), Error);

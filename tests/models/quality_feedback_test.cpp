@@ -1,7 +1,5 @@
 #include "twincal/models/quality_feedback.hpp"
 
-#include <concepts>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -11,21 +9,6 @@
 
 namespace twincal {
 namespace {
-
-// The filters' MeasurementModel shape (interfaces agreement), restated here because models does
-// not depend on filters: QualityFeedback must fit it structurally.
-template <typename M>
-concept MeasurementModelShape = requires {
-  typename M::Inputs;
-  { M::dimension_at_compile_time } -> std::convertible_to<int>;
-}
-&&requires(const M& model, const Vector<M::dimension_at_compile_time>& state,
-           const typename M::Inputs& inputs, const Eigen::Ref<const MatrixX>& states,
-           Eigen::Ref<VectorX> out) {
-  { model.measure(state, inputs) } -> std::convertible_to<double>;
-  { model.noise_variance() } -> std::convertible_to<double>;
-  model.measure_batch(states, inputs, out);
-};
 
 constexpr Index kDimension = 3;
 
@@ -62,9 +45,9 @@ using Feedback = QualityFeedback<Evaluator<RmsQuadraticTwin>, N>;
 using Models = ::testing::Types<Feedback<3>, Feedback<Dynamic>>;
 TYPED_TEST_SUITE(QualityFeedbackTest, Models);
 
+// That QualityFeedback (these Models included) has the filters' MeasurementModel shape is checked
+// at compile time in tests/static/models_check.cpp.
 TYPED_TEST(QualityFeedbackTest, MeetsTheMeasurementModelShape) {
-  static_assert(MeasurementModelShape<TypeParam>);
-  static_assert(MeasurementModelShape<QualityFeedback<RmsQuadraticTwin, 3>>);
   const TypeParam model(this->evaluator_, 1e-4);
   EXPECT_EQ(model.noise_variance(), 1e-4);
   EXPECT_EQ(model.dimension(), kDimension);

@@ -34,17 +34,6 @@
 namespace twincal::static_checks::models {
 
 // --- Twin ------------------------------------------------------------------------------------
-struct MinimalTwin {
-  using Assembly = int;
-  [[nodiscard]] Index control_dimension() const { return 1; }
-  [[nodiscard]] const std::vector<std::string>& locator_names() const { return names; }
-  [[nodiscard]] const VectorX& lower_bounds() const { return bounds; }
-  [[nodiscard]] const VectorX& upper_bounds() const { return bounds; }
-  [[nodiscard]] double quality(int, const Eigen::Ref<const VectorX>&) const { return 0.0; }
-  void quality_batch(int, const Eigen::Ref<const MatrixX>&, Eigen::Ref<VectorX>) const {}
-  std::vector<std::string> names{"u"};
-  VectorX bounds = VectorX::Zero(1);
-};
 struct TwinWithoutBatch {
   using Assembly = int;
   [[nodiscard]] Index control_dimension() const { return 1; }
@@ -54,6 +43,9 @@ struct TwinWithoutBatch {
   [[nodiscard]] double quality(int, const Eigen::Ref<const VectorX>&) const { return 0.0; }
   std::vector<std::string> names{"u"};
   VectorX bounds = VectorX::Zero(1);
+};
+struct MinimalTwin : TwinWithoutBatch {  // the batch is what makes a Twin of the above
+  void quality_batch(int, const Eigen::Ref<const MatrixX>&, Eigen::Ref<VectorX>) const {}
 };
 struct TwinWithMutableQuality : MinimalTwin {  // quality must be callable on a const twin
   [[nodiscard]] double quality(int, const Eigen::Ref<const VectorX>&) { return 0.0; }
@@ -170,6 +162,8 @@ concept StateModelShape = requires(const M& model, const Vector<M::dimension_at_
 };
 static_assert(MeasurementModelShape<QualityFeedback<RmsQuadraticTwin, 3>>);
 static_assert(MeasurementModelShape<QualityFeedback<RmsQuadraticTwin, Dynamic>>);
+static_assert(MeasurementModelShape<QualityFeedback<Evaluator<RmsQuadraticTwin>, 3>>);
+static_assert(MeasurementModelShape<QualityFeedback<Evaluator<RmsQuadraticTwin>, Dynamic>>);
 static_assert(MeasurementModelShape<QualityFeedback<Evaluator<ExternalTwin>, 2>>);
 static_assert(MeasurementModelShape<QualityFeedback<LocatorSubset<RuggedTwin>, 1>>);
 static_assert(StateModelShape<RandomWalk<3>> && StateModelShape<RandomWalk<Dynamic>>);

@@ -29,10 +29,7 @@ class Gaussian {
   ///         NotPositiveDefiniteError (a negative eigenvalue).
   Gaussian(VectorType mean, MatrixType covariance)
       : mean_(std::move(mean)), covariance_(std::move(covariance)) {
-    require_finite("mean", mean_);
-    require_shape("covariance", covariance_, mean_.size(), mean_.size());
-    require_positive_definite("covariance", covariance_, /*allow_semidefinite=*/true,
-                              /*symmetry_tolerance=*/1e-10);
+    require_normal_parameters("mean", mean_, covariance_, /*symmetry_tolerance=*/1e-10);
   }
 
   [[nodiscard]] Index dimension() const noexcept { return mean_.size(); }

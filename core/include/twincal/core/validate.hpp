@@ -198,4 +198,20 @@ void require_positive_definite(std::string_view name, const Eigen::MatrixBase<De
       lambda_min);
 }
 
+/// Checks the parameters of a normal distribution N(mean, covariance) (a Gaussian's, a drift's
+/// start and increments): `mean` finite, and "covariance" a symmetric positive semi-definite
+/// matrix of its size, symmetric to `symmetry_tolerance`.
+/// @throws NonFiniteError, DimensionMismatchError, InvalidArgumentError (asymmetric),
+///         NotPositiveDefiniteError (a negative eigenvalue).
+template <typename MeanDerived, typename CovarianceDerived>
+void require_normal_parameters(std::string_view mean_name,
+                               const Eigen::MatrixBase<MeanDerived>& mean,
+                               const Eigen::MatrixBase<CovarianceDerived>& covariance,
+                               double symmetry_tolerance = 1e-12) {
+  require_finite(mean_name, mean);
+  require_shape("covariance", covariance, mean.size(), mean.size());
+  require_positive_definite("covariance", covariance, /*allow_semidefinite=*/true,
+                            symmetry_tolerance);
+}
+
 }  // namespace twincal

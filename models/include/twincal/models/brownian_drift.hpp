@@ -31,9 +31,7 @@ class BrownianDrift {
   BrownianDrift(const OffsetVector& initial, const CovarianceMatrix& covariance,
                 RandomStream stream)
       : offset_(initial), stream_(std::move(stream)) {
-    require_finite("initial", initial);
-    require_shape("covariance", covariance, initial.size(), initial.size());
-    require_positive_definite("covariance", covariance, /*allow_semidefinite=*/true);
+    require_normal_parameters("initial", initial, covariance);
     const Eigen::SelfAdjointEigenSolver<CovarianceMatrix> solver(covariance);
     const OffsetVector roots = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt();
     square_root_ = solver.eigenvectors() * roots.asDiagonal() * solver.eigenvectors().transpose();

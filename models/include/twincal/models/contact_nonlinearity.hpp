@@ -37,10 +37,9 @@ class ContactNonlinearity {
         direction_(std::ssize(points_)),
         gap_(std::ssize(points_)),
         force_influence_(key_points, std::ssize(points_)) {
-    require_strength(strength, 1.0,
-                     "must lie in [0, 1]: a contact stops that fraction of the "
-                     "penetration");
-    RandomStream draws = stream.substream("contact");
+    RandomStream draws =
+        nonlinearity_draws(stream, name(), strength, 1.0,
+                           "must lie in [0, 1]: a contact stops that fraction of the penetration");
     const double max_gap = 0.5 * std::sqrt(static_cast<double>(dimension));
     draws.fill_normal(force_influence_);
     force_influence_ *= 0.75;

@@ -15,6 +15,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/random_stream.hpp"
 
 namespace twincal {
 
@@ -39,6 +40,17 @@ inline void require_strength(double strength, double largest, std::string_view r
   if (strength >= 0.0 && strength <= largest && std::isfinite(strength)) return;
   throw InvalidArgumentError("strength",
                              fmt::format("strength: value is {}; rule: {}", strength, rule));
+}
+
+/// Where a nonlinearity draws from: the substream of `stream` named `name` (its name()), once its
+/// strength passed require_strength(strength, largest, rule), so that a bad strength draws
+/// nothing.
+/// @throws InvalidArgumentError naming "strength".
+[[nodiscard]] inline RandomStream nonlinearity_draws(const RandomStream& stream,
+                                                     std::string_view name, double strength,
+                                                     double largest, std::string_view rule) {
+  require_strength(strength, largest, rule);
+  return stream.substream(name);
 }
 
 }  // namespace twincal

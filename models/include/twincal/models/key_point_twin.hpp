@@ -26,6 +26,7 @@
 #include "twincal/core/random_stream.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/models/analytic_assembly_set.hpp"
+#include "twincal/models/analytic_twin_base.hpp"
 #include "twincal/models/assembly_id.hpp"
 #include "twincal/models/deviation_nonlinearity.hpp"
 #include "twincal/models/no_nonlinearity.hpp"
@@ -50,22 +51,21 @@ struct KeyPointTwinOptions {
   }
 };
 
+/// The assemblies, names and bounds are AnalyticTwinBase's; this class adds B, w(x), the
+/// nonlinearity and Q.
 template <DeviationNonlinearity Nonlinearity>
-class KeyPointTwin {
+class KeyPointTwin : public AnalyticTwinBase {
  public:
-  using Assembly = AssemblyId;
-
   /// Draws the assemblies (substream "assemblies"), B ("influence"), w ("residuals") and the
   /// nonlinearity ("nonlinearity") from `stream`.
   /// @throws InvalidArgumentError when the options are inconsistent (the nonlinearity's own
   ///         rules on the strength included).
   KeyPointTwin(const KeyPointTwinOptions& options, const RandomStream& stream)
-      : assemblies_((require_valid("options", options), options.assemblies),
-                    stream.substream("assemblies")),
+      : AnalyticTwinBase(draw_assemblies(options, stream)),
         nonlinearity_(options.key_points, options.assemblies.dimension, options.strength,
                       stream.substream("nonlinearity")),
         strength_(options.strength) {
-    const Index d = assemblies_.dimension();
+    const Index d = control_dimension();
     const Index m = options.key_points;
     RandomStream influence = stream.substream("influence");
     MatrixX gaussian(m, d);
@@ -85,26 +85,18 @@ class KeyPointTwin {
                  eigenvalues.cwiseSqrt().asDiagonal() * rotation.transpose();
 
     RandomStream residual_stream = stream.substream("residuals");
-    const std::vector<AssemblyId> all = assemblies_.assemblies();
+    const std::vector<AssemblyId> all = assemblies();
     residuals_.resize(m, static_cast<Index>(all.size()));
     VectorX draw(m);
     for (std::size_t k = 0; k < all.size(); ++k) {
       residual_stream.fill_normal(draw);
       draw -= columns * (columns.transpose() * draw);  // ⟂ range(B)
-      const double q0 = assemblies_.q0(all[k]);
+      const double q0 = assembly_set().q0(all[k]);
       residuals_.col(static_cast<Index>(k)) =
           draw * std::sqrt(q0 * static_cast<double>(m)) / draw.norm();
     }
   }
 
-  [[nodiscard]] Index control_dimension() const noexcept { return assemblies_.dimension(); }
-  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
-    return assemblies_.locator_names();
-  }
-  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return assemblies_.lower_bounds(); }
-  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return assemblies_.upper_bounds(); }
-  [[nodiscard]] const AnalyticAssemblySet& assembly_set() const noexcept { return assemblies_; }
-  [[nodiscard]] std::vector<AssemblyId> assemblies() const { return assemblies_.assemblies(); }
   [[nodiscard]] Index key_point_count() const noexcept { return influence_.rows(); }
   /// B.
   [[nodiscard]] const MatrixX& influence() const noexcept { return influence_; }
@@ -114,18 +106,18 @@ class KeyPointTwin {
   /// Where a search for u0(x) starts: a(x), the optimum of the affine part (searched_optimum_twin
   /// in controllers polishes from here).
   [[nodiscard]] VectorX search_start(const AssemblyId& assembly) const {
-    return assemblies_.optimum(assembly);
+    return assembly_set().optimum(assembly);
   }
 
   /// u0(x) = a(x) and z*(x) = sqrt(q0(x)): exact without a nonlinearity (Q² is then the
   /// RMS-quadratic twin's); with one they are not known, and are searched.
   [[nodiscard]] VectorX optimum(
       const AssemblyId& assembly) const requires std::same_as<Nonlinearity, NoNonlinearity> {
-    return assemblies_.optimum(assembly);
+    return assembly_set().optimum(assembly);
   }
   [[nodiscard]] double optimal_quality(
       const AssemblyId& assembly) const requires std::same_as<Nonlinearity, NoNonlinearity> {
-    return std::sqrt(assemblies_.q0(assembly));
+    return std::sqrt(assembly_set().q0(assembly));
   }
 
   /// The key points' deviations r(x, u), nonlinearity applied.
@@ -134,7 +126,7 @@ class KeyPointTwin {
                                    const Eigen::Ref<const VectorX>& control) const {
     require_control(control, control_dimension());
     Scratch scratch = make_scratch();
-    evaluate(assembly, assemblies_.index_of(assembly), control, scratch);
+    evaluate(assembly, assembly_set().index_of(assembly), control, scratch);
     return scratch.deviations;
   }
 
@@ -143,14 +135,14 @@ class KeyPointTwin {
                                const Eigen::Ref<const VectorX>& control) const {
     require_control(control, control_dimension());
     Scratch scratch = make_scratch();
-    return evaluate(assembly, assemblies_.index_of(assembly), control, scratch);
+    return evaluate(assembly, assembly_set().index_of(assembly), control, scratch);
   }
 
   /// out(j) = Q(x, controls.col(j)); one pair of scratch vectors per batch.
   void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const {
     require_control_batch(controls, out, control_dimension());
-    const Index index = assemblies_.index_of(assembly);
+    const Index index = assembly_set().index_of(assembly);
     Scratch scratch = make_scratch();
     for (Index j = 0; j < controls.cols(); ++j) {
       out(j) = evaluate(assembly, index, controls.col(j), scratch);
@@ -173,14 +165,13 @@ class KeyPointTwin {
                   Scratch& scratch) const {
     VectorX& error = scratch.error;
     VectorX& r = scratch.deviations;
-    error = control - assemblies_.optimum(assembly);
+    error = control - assembly_set().optimum(assembly);
     scratch.moved.noalias() = influence_ * error;
     r = residuals_.col(index) + scratch.moved;
     nonlinearity_.apply(control, error, scratch.moved, r);
     return std::sqrt(r.squaredNorm() / static_cast<double>(r.size()));
   }
 
-  AnalyticAssemblySet assemblies_;
   Nonlinearity nonlinearity_;
   double strength_;
   MatrixX influence_;  // B

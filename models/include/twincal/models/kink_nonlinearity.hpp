@@ -27,8 +27,8 @@ class KinkNonlinearity {
   /// @throws InvalidArgumentError unless strength is finite and >= 0.
   KinkNonlinearity(Index key_points, Index dimension, double strength, const RandomStream& stream)
       : directions_(key_points, dimension), coefficients_(key_points), offsets_(key_points) {
-    require_strength(strength, std::numeric_limits<double>::max(), "must be finite and >= 0");
-    RandomStream draws = stream.substream("kink");
+    RandomStream draws = nonlinearity_draws(
+        stream, name(), strength, std::numeric_limits<double>::max(), "must be finite and >= 0");
     draws.fill_normal(directions_);
     draws.fill_normal(coefficients_);
     coefficients_ *= strength;

@@ -6,6 +6,7 @@
 /// and is not included.)
 
 #include "twincal/models/analytic_assembly_set.hpp"
+#include "twincal/models/analytic_twin_base.hpp"
 #include "twincal/models/assembly_id.hpp"
 #include "twincal/models/bouncing_drift.hpp"
 #include "twincal/models/brownian_drift.hpp"
@@ -15,6 +16,7 @@
 #include "twincal/models/drift.hpp"
 #include "twincal/models/evaluation_error.hpp"
 #include "twincal/models/evaluator.hpp"
+#include "twincal/models/exact_optimum_twin.hpp"
 #include "twincal/models/execution.hpp"
 #include "twincal/models/kept_assemblies.hpp"
 #include "twincal/models/key_point_twin.hpp"

@@ -23,6 +23,7 @@
 #include "twincal/core/validate.hpp"
 #include "twincal/models/analytic_assembly_set.hpp"
 #include "twincal/models/assembly_id.hpp"
+#include "twincal/models/exact_optimum_twin.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -39,17 +40,43 @@ struct RmsQuadraticTwinOptions {
   }
 };
 
-class RmsQuadraticTwin {
+/// Q(x, u) = sqrt(q0(x) + (u − a(x))ᵀ H (u − a(x))): RmsQuadraticTwin's shape.
+class RmsQuadraticShape {
  public:
-  using Assembly = AssemblyId;
+  explicit RmsQuadraticShape(MatrixX curvature) : curvature_(std::move(curvature)) {}
 
+  /// H.
+  [[nodiscard]] const MatrixX& curvature() const noexcept { return curvature_; }
+
+  // eᵀHe summed in place: no temporary, so a dynamic-size batch does not allocate per column.
+  template <typename A, typename U>
+  [[nodiscard]] double quality(double q0, const A& a, const U& control) const {
+    const Index d = control.size();
+    double quadratic = 0.0;
+    for (Index l = 0; l < d; ++l) {
+      const double e_l = control(l) - a(l);
+      double row = 0.0;
+      for (Index k = 0; k < d; ++k) row += curvature_(k, l) * (control(k) - a(k));
+      quadratic += e_l * row;
+    }
+    return std::sqrt(q0 + quadratic);
+  }
+
+ private:
+  MatrixX curvature_;
+};
+
+/// The RMS-quadratic twin (see the file comment): an ExactOptimumTwin, Q(x, u), the batch and
+/// the optimum u0(x) = a(x) (eq. 3) with z*(x) = sqrt(q0(x)) included; this class adds H.
+class RmsQuadraticTwin : public ExactOptimumTwin<RmsQuadraticShape> {
+ public:
   /// A twin over `assemblies` with the given H.
   /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError,
   ///         NotPositiveDefiniteError when H is not d × d symmetric positive definite.
   RmsQuadraticTwin(AnalyticAssemblySet assemblies, MatrixX curvature)
-      : assemblies_(std::move(assemblies)), curvature_(std::move(curvature)) {
-    require_shape("curvature", curvature_, assemblies_.dimension(), assemblies_.dimension());
-    require_positive_definite("curvature", curvature_);
+      : ExactOptimumTwin(std::move(assemblies), RmsQuadraticShape(std::move(curvature))) {
+    require_shape("curvature", this->curvature(), control_dimension(), control_dimension());
+    require_positive_definite("curvature", this->curvature());
   }
 
   /// Draws the assemblies (substream "assemblies") and H = V diag(λ) Vᵀ with V a random
@@ -58,8 +85,7 @@ class RmsQuadraticTwin {
   /// @throws InvalidArgumentError when the options are inconsistent.
   [[nodiscard]] static RmsQuadraticTwin generate(const RmsQuadraticTwinOptions& options,
                                                  const RandomStream& stream) {
-    require_valid("options", options);
-    AnalyticAssemblySet assemblies(options.assemblies, stream.substream("assemblies"));
+    AnalyticAssemblySet assemblies = draw_assemblies(options, stream);
     const Index d = assemblies.dimension();
     RandomStream curvature_stream = stream.substream("curvature");
     MatrixX gaussian(d, d);
@@ -76,62 +102,8 @@ class RmsQuadraticTwin {
     return {std::move(assemblies), std::move(curvature)};
   }
 
-  [[nodiscard]] Index control_dimension() const noexcept { return assemblies_.dimension(); }
-  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
-    return assemblies_.locator_names();
-  }
-  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return assemblies_.lower_bounds(); }
-  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return assemblies_.upper_bounds(); }
-  [[nodiscard]] const AnalyticAssemblySet& assembly_set() const noexcept { return assemblies_; }
-  [[nodiscard]] std::vector<AssemblyId> assemblies() const { return assemblies_.assemblies(); }
   /// H.
-  [[nodiscard]] const MatrixX& curvature() const noexcept { return curvature_; }
-
-  /// Q(x, u) = sqrt(q0(x) + (u − a(x))ᵀ H (u − a(x))).
-  /// @throws InvalidArgumentError for an unknown assembly, DimensionMismatchError for a control
-  ///         of the wrong size.
-  [[nodiscard]] double quality(const AssemblyId& assembly,
-                               const Eigen::Ref<const VectorX>& control) const {
-    require_control(control, control_dimension());
-    return evaluate(assemblies_.q0(assembly), assemblies_.optimum(assembly), control);
-  }
-
-  /// out(j) = Q(x, controls.col(j)).
-  void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
-                     Eigen::Ref<VectorX> out) const {
-    require_control_batch(controls, out, control_dimension());
-    const double q0 = assemblies_.q0(assembly);
-    const MatrixX::ConstColXpr a = assemblies_.optimum(assembly);
-    for (Index j = 0; j < controls.cols(); ++j) out(j) = evaluate(q0, a, controls.col(j));
-  }
-
-  /// u0(x) = a(x) (eq. 3).
-  [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
-    return assemblies_.optimum(assembly);
-  }
-
-  /// z*(x) = Q(x, u0(x)) = sqrt(q0(x)).
-  [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
-    return std::sqrt(assemblies_.q0(assembly));
-  }
-
- private:
-  // eᵀHe summed in place: no temporary, so a dynamic-size batch does not allocate per column.
-  template <typename A, typename U>
-  [[nodiscard]] double evaluate(double q0, const A& a, const U& control) const {
-    const Index d = control_dimension();
-    double quadratic = 0.0;
-    for (Index l = 0; l < d; ++l) {
-      const double e_l = control(l) - a(l);
-      double row = 0.0;
-      for (Index k = 0; k < d; ++k) row += curvature_(k, l) * (control(k) - a(k));
-      quadratic += e_l * row;
-    }
-    return std::sqrt(q0 + quadratic);
-  }
-
-  AnalyticAssemblySet assemblies_;
-  MatrixX curvature_;
+  [[nodiscard]] const MatrixX& curvature() const noexcept { return shape().curvature(); }
 };
 
 static_assert(TwinWithOptimum<RmsQuadraticTwin>);

@@ -22,6 +22,7 @@
 #include "twincal/core/random_stream.hpp"
 #include "twincal/models/analytic_assembly_set.hpp"
 #include "twincal/models/assembly_id.hpp"
+#include "twincal/models/exact_optimum_twin.hpp"
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
@@ -40,69 +41,34 @@ struct RuggedTwinOptions {
   }
 };
 
-class RuggedTwin {
- public:
-  using Assembly = AssemblyId;
+/// Q(x, u) = sqrt(q0(x)) + Σ_k [ s |e_k| + c (1 − cos(2π e_k / λ)) ]: RuggedTwin's shape.
+struct RuggedShape {
+  double slope;       ///< s
+  double ripple;      ///< c
+  double wavenumber;  ///< 2π / λ
 
-  /// Draws the assemblies from `stream` (substream "assemblies").
-  /// @throws InvalidArgumentError when the options are inconsistent.
-  RuggedTwin(const RuggedTwinOptions& options, const RandomStream& stream)
-      : assemblies_((require_valid("options", options), options.assemblies),
-                    stream.substream("assemblies")),
-        slope_(options.slope),
-        ripple_(options.ripple),
-        wavenumber_(2.0 * std::numbers::pi / options.wavelength) {}
-
-  [[nodiscard]] Index control_dimension() const noexcept { return assemblies_.dimension(); }
-  [[nodiscard]] const std::vector<std::string>& locator_names() const noexcept {
-    return assemblies_.locator_names();
-  }
-  [[nodiscard]] const VectorX& lower_bounds() const noexcept { return assemblies_.lower_bounds(); }
-  [[nodiscard]] const VectorX& upper_bounds() const noexcept { return assemblies_.upper_bounds(); }
-  [[nodiscard]] const AnalyticAssemblySet& assembly_set() const noexcept { return assemblies_; }
-  [[nodiscard]] std::vector<AssemblyId> assemblies() const { return assemblies_.assemblies(); }
-
-  /// Q(x, u) = z*(x) + Σ_k [ s |e_k| + c (1 − cos(2π e_k / λ)) ].
-  [[nodiscard]] double quality(const AssemblyId& assembly,
-                               const Eigen::Ref<const VectorX>& control) const {
-    require_control(control, control_dimension());
-    return evaluate(optimal_quality(assembly), assemblies_.optimum(assembly), control);
-  }
-
-  /// out(j) = Q(x, controls.col(j)).
-  void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
-                     Eigen::Ref<VectorX> out) const {
-    require_control_batch(controls, out, control_dimension());
-    const double z_star = optimal_quality(assembly);
-    const MatrixX::ConstColXpr a = assemblies_.optimum(assembly);
-    for (Index j = 0; j < controls.cols(); ++j) out(j) = evaluate(z_star, a, controls.col(j));
-  }
-
-  /// u0(x) = a(x).
-  [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
-    return assemblies_.optimum(assembly);
-  }
-
-  /// z*(x) = sqrt(q0(x)).
-  [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
-    return std::sqrt(assemblies_.q0(assembly));
-  }
-
- private:
   template <typename A, typename U>
-  [[nodiscard]] double evaluate(double z_star, const A& a, const U& control) const {
-    double q = z_star;
+  [[nodiscard]] double quality(double q0, const A& a, const U& control) const {
+    double q = std::sqrt(q0);  // z*(x)
     for (Index k = 0; k < control.size(); ++k) {
       const double e = control(k) - a(k);
-      q += slope_ * std::abs(e) + ripple_ * (1.0 - std::cos(wavenumber_ * e));
+      q += slope * std::abs(e) + ripple * (1.0 - std::cos(wavenumber * e));
     }
     return q;
   }
+};
 
-  AnalyticAssemblySet assemblies_;
-  double slope_;
-  double ripple_;
-  double wavenumber_;
+/// The rugged twin (see the file comment): an ExactOptimumTwin, Q(x, u), the batch and the
+/// optimum u0(x) = a(x) with z*(x) = sqrt(q0(x)) included.
+class RuggedTwin : public ExactOptimumTwin<RuggedShape> {
+ public:
+  /// Draws the assemblies from `stream` (substream "assemblies").
+  /// @throws InvalidArgumentError when the options are inconsistent.
+  RuggedTwin(const RuggedTwinOptions& options, const RandomStream& stream)
+      : ExactOptimumTwin{draw_assemblies(options, stream),
+                         RuggedShape{.slope = options.slope,
+                                     .ripple = options.ripple,
+                                     .wavenumber = 2.0 * std::numbers::pi / options.wavelength}} {}
 };
 
 static_assert(TwinWithOptimum<RuggedTwin>);

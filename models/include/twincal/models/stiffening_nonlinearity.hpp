@@ -25,8 +25,8 @@ class StiffeningNonlinearity {
   StiffeningNonlinearity(Index key_points, Index dimension, double strength,
                          const RandomStream& stream)
       : directions_(key_points, dimension), coefficients_(key_points) {
-    require_strength(strength, std::numeric_limits<double>::max(), "must be finite and >= 0");
-    RandomStream draws = stream.substream("stiffening");
+    RandomStream draws = nonlinearity_draws(
+        stream, name(), strength, std::numeric_limits<double>::max(), "must be finite and >= 0");
     draws.fill_normal(directions_);
     directions_ /= std::sqrt(std::sqrt(static_cast<double>(dimension)));
     draws.fill_normal(coefficients_);
