@@ -126,9 +126,10 @@ std::optional<std::string> ExperimentConfig::validate() const {
        plant_strength && plant_nonlinearity
            ? strength_problem("plant_strength", *plant_strength, *plant_nonlinearity)
            : std::nullopt,
-       rule::check_fields(external == external_twin.has_value(), "case and external_twin",
-                          std::array{to_string(twin_case), external_twin ? "set" : "unset"},
-                          "external_twin is given with the external case and only with it"),
+       rule::check_fields(
+           external == external_twin.has_value(), "case and external_twin",
+           std::array<std::string_view, 2>{to_string(twin_case), external_twin ? "set" : "unset"},
+           "external_twin is given with the external case and only with it"),
        external_twin ? rule::nested("external_twin", *external_twin) : std::nullopt,
        rule::check(!plant_external_twin || external_twin.has_value(), "plant_external_twin", "set",
                    "only with the external case (case is {}): it is that case's plant",

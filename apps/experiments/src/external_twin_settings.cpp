@@ -1,6 +1,7 @@
 // ExternalTwinSettings (external_twin_settings.hpp): checks and JSON.
 #include "twincal/experiments/external_twin_settings.hpp"
 
+#include <array>
 #include <cmath>
 #include <string_view>
 
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 #include "twincal/experiments/strict_json.hpp"
 
 namespace twincal {
