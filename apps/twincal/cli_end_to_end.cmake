@@ -116,7 +116,7 @@ file(WRITE "${WORK_DIR}/runs.json" "{\"runs\": 9223372036854775807}")
 file(WRITE "${WORK_DIR}/twice.json" "{\"runs\": 2, \"runs\": 3}")
 file(WRITE "${WORK_DIR}/coerced.json" "{\"runs\": 2.9}")
 foreach(pair "deep.json|nests 200001 levels of arrays and objects; rule: at most 64"
-             "runs.json|runs is 9223372036854775807; rule: must be >= 1 and <= 1000000"
+             "runs.json|runs: value is 9223372036854775807; rule: must lie in [1, 1000000]"
              "twice.json|the key \"runs\" appears twice in one object"
              "coerced.json|runs: is 2.9; rule: an integer")
   string(REPLACE "|" ";" pair "${pair}")

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
@@ -135,15 +136,13 @@ PlateMesh SheetMetalLayout::mesh(SheetMetalPart part) const {
 }
 
 std::optional<std::string> SheetMetalLayout::validate() const {
-  if (!(element_size > 0.0) || !std::isfinite(element_size)) {
-    return fmt::format("element_size: is {}; rule: must be finite and > 0", element_size);
-  }
+  if (auto problem = rule::positive_finite("element_size", element_size)) return problem;
   for (const SheetMetalPart part : {upper_part, lower_part}) {
     const PartOutline& o = part == upper_part ? upper : lower;
     if (!(o.width > 0.0) || !(o.height > 0.0) || !whole_multiple(o.width, element_size) ||
         !whole_multiple(o.height, element_size)) {
       return fmt::format(
-          "{}: is {} x {} mm; rule: must be > 0 and whole multiples of "
+          "{}: value is {} x {} mm; rule: must be > 0 and whole multiples of "
           "element_size {} mm",
           part_name(part), o.width, o.height, element_size);
     }
@@ -168,7 +167,7 @@ std::optional<std::string> SheetMetalLayout::validate() const {
     return fmt::format("locators: {} upper and {} lower; rule: each part needs >= 3", upper_count,
                        lower_count);
   }
-  if (welds.empty()) return "welds: is empty; rule: needs at least one weld";
+  if (welds.empty()) return "welds: value is empty; rule: needs at least one weld";
   for (std::size_t j = 0; j < welds.size(); ++j) {
     if (!inside(upper, welds[j](0), welds[j](1)) || !inside(lower, welds[j](0), welds[j](1))) {
       return fmt::format(
@@ -187,7 +186,7 @@ std::optional<std::string> SheetMetalLayout::validate() const {
       }
     }
   }
-  if (key_points.empty()) return "key_points: is empty; rule: needs at least one key point";
+  if (key_points.empty()) return "key_points: value is empty; rule: needs at least one key point";
   for (const auto* list : {&locators, &key_points, &supports}) {
     for (const LayoutPoint& p : *list) {
       if (!inside(p.part == upper_part ? upper : lower, p.x, p.y)) {
@@ -197,7 +196,8 @@ std::optional<std::string> SheetMetalLayout::validate() const {
     }
   }
   if (final_support == FinalSupport::nominal_frame && supports.size() < 3) {
-    return fmt::format("supports: has {}; rule: a nominal frame needs >= 3", supports.size());
+    return fmt::format("supports: value is {} points; rule: a nominal frame needs >= 3",
+                       supports.size());
   }
   return std::nullopt;
 }

@@ -84,7 +84,9 @@ TEST(ExperimentConfig, RefusesANonlinearityOrPlantWhereItCannotBe) {
   config.nonlinearity = Nonlinearity::contact;
   config.strength = 1.5;
   ASSERT_TRUE(config.validate().has_value());
-  EXPECT_NE(config.validate()->find("strength is 1.5"), std::string::npos);
+  EXPECT_NE(config.validate()->find("strength: value is 1.5; rule: must be finite and >= 0, and <= "
+                                    "1 with the contact nonlinearity"),
+            std::string::npos);
   config = {};
   config.plant_nonlinearity = Nonlinearity::contact;  // case body
   EXPECT_TRUE(config.validate().has_value());
@@ -96,8 +98,7 @@ TEST(ExperimentConfig, RefusesANonlinearityOrPlantWhereItCannotBe) {
   config.twin_case = TwinCase::analytic;
   config.plant_strength = 0.5;
   ASSERT_TRUE(config.validate().has_value());
-  EXPECT_NE(config.validate()->find("plant_strength is set without plant_nonlinearity"),
-            std::string::npos);
+  EXPECT_NE(config.validate()->find("plant_strength: value is "), std::string::npos);
 }
 
 TEST(ExperimentConfig, ReadsPartialDocumentsAndLocatorLists) {
@@ -155,10 +156,11 @@ TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
   ExperimentConfig config;
   config.runs = 0;
   ASSERT_TRUE(config.validate().has_value());
-  EXPECT_NE(config.validate()->find("runs is 0"), std::string::npos);
+  EXPECT_NE(config.validate()->find("runs: value is 0"), std::string::npos);
   // A count whose episodes overflow (it printed "-2 episodes") is refused, not wrapped.
   config.runs = std::numeric_limits<Index>::max();
-  EXPECT_EQ(config.validate(), "runs is 9223372036854775807; rule: must be >= 1 and <= 1000000");
+  EXPECT_EQ(config.validate(),
+            "runs: value is 9223372036854775807; rule: must lie in [1, 1000000]");
   config = {};
   config.controllers = {ControllerSpec::default_controller(), ControllerSpec::default_controller()};
   ASSERT_TRUE(config.validate().has_value());
@@ -172,8 +174,9 @@ TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
   config = {};
   config.analytic_dimension = 100000;  // a d x d curvature of 80 GB
   ASSERT_TRUE(config.validate().has_value());
-  EXPECT_NE(config.validate()->find("analytic_dimension is 100000; rule: must lie in [1, 1024]"),
-            std::string::npos);
+  EXPECT_NE(
+      config.validate()->find("analytic_dimension: value is 100000; rule: must lie in [1, 1024]"),
+      std::string::npos);
 }
 
 TEST(ExperimentConfig, CandidateCountIsThePapersOrTheSetCountCapped) {
@@ -187,7 +190,7 @@ TEST(ExperimentConfig, CandidateCountIsThePapersOrTheSetCountCapped) {
   EXPECT_EQ(config.candidate_count(1), 1024);
   config.candidate_cap = 0;
   ASSERT_TRUE(config.validate().has_value());
-  EXPECT_NE(config.validate()->find("candidate_cap is 0"), std::string::npos);
+  EXPECT_NE(config.validate()->find("candidate_cap: value is 0"), std::string::npos);
   config.candidate_cap.reset();
   config.controllers = {ControllerSpec::per_component(1.5)};
   ASSERT_TRUE(config.validate().has_value());

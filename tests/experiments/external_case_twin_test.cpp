@@ -114,14 +114,14 @@ TEST(ExternalCaseTwin, RefusesAnUnknownAssemblyAndInvalidSettings) {
   ExternalTwinSettings bad = minimal_twin(1);
   bad.upper_bounds = {1.0, 1.0};
   EXPECT_THAT(bad.validate().value_or(""),
-              HasSubstr("lower_bounds and upper_bounds have 3 and 2 entries; rule: one per "
-                        "locator (3)"));
+              HasSubstr("lower_bounds and upper_bounds: values are 3 and 2; rule: one entry per "
+                        "locator (3) each"));
   bad = minimal_twin(1);
   bad.lower_bounds[1] = 1.0;
-  EXPECT_THAT(bad.validate().value_or(""), HasSubstr("bounds of B are [1, 1]; rule: finite"));
+  EXPECT_THAT(bad.validate().value_or(""), HasSubstr("bounds of B: value is [1, 1]; rule: finite"));
   bad = minimal_twin(0);
   EXPECT_THAT(bad.validate().value_or(""),
-              HasSubstr("external_twin.workers is 0; rule: must lie in [1, 256]"));
+              HasSubstr("workers: value is 0; rule: must lie in [1, 256]"));
   EXPECT_THROW(ExternalCaseTwin{bad}, InvalidArgumentError);
 }
 
@@ -129,23 +129,24 @@ TEST(ExternalTwinSettings, GoWithTheExternalCaseAndOnlyWithIt) {
   ExperimentConfig config;
   config.twin_case = TwinCase::external;
   EXPECT_THAT(config.validate().value_or(""),
-              HasSubstr("case is \"external\" and external_twin is unset; rule: external_twin is "
-                        "given with the external case and only with it"));
+              HasSubstr("case and external_twin: values are external and unset; rule: "
+                        "external_twin is given with the external case and only with it"));
   config.external_twin = minimal_twin(2);
   // More episodes' assemblies than its 2 × 3 pairs: refused before any twin is started, by the
   // study (not by validate(): twincal serve takes the same config and runs no episodes).
   config.assemblies = 7;
   EXPECT_EQ(config.validate(), std::nullopt);
   EXPECT_THAT(episode_assemblies_problem(config).value_or(""),
-              HasSubstr("assemblies is 7; rule: must be <= the external twin's upper_parts × "
-                        "lower_parts = 6"));
+              HasSubstr("assemblies: value is 7; rule: must be <= the external twin's "
+                        "upper_parts × lower_parts = 6"));
   ResultStore store(std::filesystem::temp_directory_path() / "twincal-assemblies-check");
   EXPECT_THROW((void)run_experiments(std::vector<ExperimentGroup>{{config}}, store, RunOptions{}),
                InvalidArgumentError);
   config.assemblies = 6;
   EXPECT_EQ(episode_assemblies_problem(config), std::nullopt);
   config.twin_case = TwinCase::body;
-  EXPECT_THAT(config.validate().value_or(""), HasSubstr("external_twin is set"));
+  EXPECT_THAT(config.validate().value_or(""),
+              HasSubstr("case and external_twin: values are body and set"));
   // The pool's size does not define the episodes, the program does.
   config.twin_case = TwinCase::external;
   ExperimentConfig more_workers = config;
@@ -179,7 +180,7 @@ TEST(ExternalCaseTwin, BudgetedSearchFindsTheOptimumWithinItsBudget) {
   }
   settings.optimum_budget = 7;  // < 2d + 2
   EXPECT_THAT(settings.validate().value_or(""),
-              HasSubstr("external_twin.optimum_budget is 7; rule: 0 or >= 2d + 2 = 8"));
+              HasSubstr("external_twin.optimum_budget: value is 7; rule: 0 or >= 2d + 2 = 8"));
   nlohmann::json json = settings;
   json["optimum_budget"] = 16.5;
   EXPECT_THROW((void)json.get<ExternalTwinSettings>(), InvalidArgumentError);
@@ -231,12 +232,12 @@ TEST(ExternalTwinSettings, PlantExternalTwinIsTheSameCellMeasuredByAnotherProgra
   EXPECT_TRUE(other.validate().has_value());
   other = config;
   other.plant_external_twin->workers = 0;
-  EXPECT_THAT(other.validate().value_or(""), HasSubstr("plant_external_twin.workers is 0"));
+  EXPECT_THAT(other.validate().value_or(""), HasSubstr("plant_external_twin.workers: value is 0"));
   ExperimentConfig body;
   body.plant_external_twin = minimal_twin(1);
   EXPECT_THAT(body.validate().value_or(""),
-              HasSubstr("plant_external_twin is set with case \"body\"; rule: it is the "
-                        "external case's plant"));
+              HasSubstr("plant_external_twin: value is set; rule: only with the external case "
+                        "(case is body): it is that case's plant"));
 }
 
 TEST(ExternalTwinSettings, RoundTripsThroughJsonAndRefusesUnknownKeys) {
@@ -263,7 +264,7 @@ TEST(ExternalTwinSettings, RoundTripsThroughJsonAndRefusesUnknownKeys) {
   impatient.startup_grace_ms = -1;
   ASSERT_TRUE(impatient.validate().has_value());
   EXPECT_THAT(*impatient.validate(),
-              HasSubstr("external_twin.startup_grace_ms is -1; rule: must be >= 0"));
+              HasSubstr("startup_grace_ms: value is -1; rule: must be >= 0"));
 }
 
 }  // namespace

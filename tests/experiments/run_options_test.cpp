@@ -14,7 +14,8 @@ TEST(RunOptions, DefaultsUseAllCoresAndValidate) {
 TEST(RunOptions, RejectsNegativeThreadCounts) {
   const RunOptions options{.threads = -1, .progress = false};
   ASSERT_TRUE(options.validate().has_value());
-  EXPECT_NE(options.validate()->find("threads is -1"), std::string::npos);
+  EXPECT_NE(options.validate()->find("threads: value is -1; rule: must be >= 0 (0: all cores)"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -28,9 +28,9 @@ TEST(StudyShard, EveryEpisodeBelongsToExactlyOneShard) {
 
 TEST(StudyShard, ValidateNamesTheFieldAndTheRule) {
   EXPECT_THAT((StudyShard{.index = 0, .count = 0}.validate().value()),
-              HasSubstr("count is 0; rule: must be >= 1"));
+              HasSubstr("count: value is 0; rule: must be >= 1"));
   EXPECT_THAT((StudyShard{.index = 3, .count = 3}.validate().value()),
-              HasSubstr("index is 3; rule: must be in [0, count) = [0, 3)"));
+              HasSubstr("index: value is 3; rule: must lie in [0, count) = [0, 3)"));
   EXPECT_TRUE((StudyShard{.index = -1, .count = 3}.validate().has_value()));
 }
 

@@ -173,7 +173,7 @@ TEST(ExternalTwinPool, RejectsBadOptionsAndControlsBeforeStartingOrSending) {
       const ExternalTwinPool pool(pool_options(workers));
       ADD_FAILURE() << "expected an InvalidArgumentError";
     } catch (const InvalidArgumentError& error) {
-      EXPECT_THAT(error.what(), HasSubstr(fmt::format("workers is {}; rule", workers)));
+      EXPECT_THAT(error.what(), HasSubstr(fmt::format("workers: value is {}; rule", workers)));
     }
   }
   ExternalTwinPoolOptions no_command = pool_options(2);

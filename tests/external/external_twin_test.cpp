@@ -248,7 +248,8 @@ TEST(ExternalTwin, RefusesANegativeOrHugeQualityAndKeepsTheChild) {
   ExternalTwinOptions options = script_options();
   options.max_quality = std::numeric_limits<double>::infinity();
   ASSERT_TRUE(options.validate().has_value());
-  EXPECT_THAT(*options.validate(), HasSubstr("max_quality is inf; rule: must be finite and > 0"));
+  EXPECT_THAT(*options.validate(),
+              HasSubstr("max_quality: value is inf; rule: must be finite and > 0"));
 }
 
 TEST(ExternalTwin, NullQualitiesBecomeNonFiniteErrorsInTheEvaluator) {
@@ -310,17 +311,18 @@ TEST(ExternalTwin, RejectsBadOptionsAndShapes) {
   options.command.clear();
   EXPECT_THAT([&] { const ExternalTwin twin(options); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: command is empty; rule: must name an executable"));
+                  "options: command: value is empty; rule: must name an executable"));
   options = script_options();
   options.lower_bounds = VectorX::Zero(3);
-  EXPECT_THAT([&] { const ExternalTwin twin(options); },
-              ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: lower_bounds has 3 entries; rule: must be empty or have 2"));
+  EXPECT_THAT(
+      [&] { const ExternalTwin twin(options); },
+      ::testing::ThrowsMessage<InvalidArgumentError>(
+          "options: lower_bounds: value is 0, 0, 0; rule: must be empty or hold 2 entries"));
   options = script_options();
   options.timeout = std::chrono::milliseconds{0};
   EXPECT_THAT([&] { const ExternalTwin twin(options); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  "options: timeout is 0 ms; rule: must be > 0"));
+                  "options: timeout: value is 0; rule: must be > 0 (ms)"));
   const ExternalTwin twin(script_options());
   VectorX out(2);
   EXPECT_THAT(

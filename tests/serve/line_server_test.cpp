@@ -310,22 +310,22 @@ TEST_F(ServeTcp, ServesAUnixSocketOnlyItsOwnerMayOpenAndRemovesItAfterwards) {
 
 TEST(ListenOptions, NameTheRuleTheyBreak) {
   EXPECT_EQ(ListenOptions{.host = "localhost"}.validate(),
-            "host: is \"localhost\"; rule: an IPv4 address such as 127.0.0.1");
+            "host: value is \"localhost\"; rule: an IPv4 address such as 127.0.0.1");
   EXPECT_EQ(ListenOptions{.max_connections = 0}.validate(),
-            "max_connections: is 0; rule: at least 1");
+            "max_connections: value is 0; rule: must be >= 1");
   EXPECT_EQ(ListenOptions{.host = "0.0.0.0"}.validate(),
-            "host: is 0.0.0.0; rule: listening beyond loopback (127.0.0.0/8) needs a token "
+            "host: value is 0.0.0.0; rule: listening beyond loopback (127.0.0.0/8) needs a token "
             "(--token-file): a cell controller takes orders only from the cell");
   ListenOptions anywhere;
   anywhere.host = "0.0.0.0";
   anywhere.token = "short";
-  EXPECT_EQ(anywhere.validate(), "token: has 5 characters; rule: at least 16");
+  EXPECT_EQ(anywhere.validate(), "token: value is 5 characters; rule: at least 16");
   anywhere.token = "a secret of 16 c";
   EXPECT_EQ(anywhere.validate(), std::nullopt);
   ListenOptions small;
   small.max_reply_backlog = 10;
   EXPECT_EQ(small.validate(),
-            "max_reply_backlog: is 10 bytes; rule: at least 1048576 (a reply's "
+            "max_reply_backlog: value is 10 bytes; rule: at least 1048576 (a reply's "
             "size)");
 }
 

@@ -44,7 +44,7 @@ TEST(SheetMetalLayout, CasesAreValidWithTheirCounts) {
 
 TEST(SheetMetalLayout, ValidateNamesTheBrokenRule) {
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.element_size = 0.0; }),
-              HasSubstr("element_size: is 0"));
+              HasSubstr("element_size: value is 0; rule: must be finite and > 0"));
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.upper.width = 810.0; }),
               HasSubstr("whole multiples of element_size"));
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.upper.y0 = 345.0; }),
@@ -54,7 +54,7 @@ TEST(SheetMetalLayout, ValidateNamesTheBrokenRule) {
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.locators.resize(8); }),
               HasSubstr("6 upper and 2 lower; rule: each part needs >= 3"));
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.welds.clear(); }),
-              HasSubstr("welds: is empty"));
+              HasSubstr("welds: value is empty"));
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.welds[0](1) = 300.0; }),
               HasSubstr("must lie in the overlap"));
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) {
@@ -62,12 +62,12 @@ TEST(SheetMetalLayout, ValidateNamesTheBrokenRule) {
               }),
               HasSubstr("U1 sits on the weld"));
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.key_points.clear(); }),
-              HasSubstr("key_points: is empty"));
+              HasSubstr("key_points: value is empty"));
   EXPECT_THAT(problem_after([](SheetMetalLayout& l) { l.key_points[0].y = 100.0; }),
               HasSubstr("must lie on its (upper) part"));
   EXPECT_THAT(
       problem_after([](SheetMetalLayout& l) { l.final_support = FinalSupport::nominal_frame; }),
-      HasSubstr("supports: has 0; rule: a nominal frame needs >= 3"));
+      HasSubstr("supports: value is 0 points; rule: a nominal frame needs >= 3"));
   EXPECT_EQ(problem_after([](SheetMetalLayout&) {}), "");
 }
 

@@ -1,6 +1,7 @@
 #include "twincal/experiments/experiment_config.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 #include "twincal/experiments/strict_json.hpp"
 
 namespace twincal {
@@ -36,137 +38,117 @@ Index ExperimentConfig::candidate_count(Index d) const {
   return candidate_cap ? std::min(count, *candidate_cap) : count;
 }
 
-std::optional<std::string> ExperimentConfig::validate() const {
-  const auto positive = [](std::string_view field, double value) -> std::optional<std::string> {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-      return fmt::format("{} is {}; rule: must be finite and > 0", field, value);
-    }
-    return std::nullopt;
-  };
-  for (const auto& [field, value] :
-       {std::pair<std::string_view, double>{"process_variance", process_variance},
-        {"initial_variance", initial_variance},
-        {"box_half_width", box_half_width},
-        {"drift_step", drift_step},
-        {"divergence_threshold", divergence_threshold},
-        {"alpha", alpha},
-        {"measurement_variance", filter_measurement_variance()}}) {
-    if (auto problem = positive(field, value)) return problem;
-  }
-  if (!(plant_noise_variance >= 0.0) || !std::isfinite(plant_noise_variance)) {
-    return fmt::format("plant_noise_variance is {}; rule: must be finite and >= 0",
-                       plant_noise_variance);
-  }
-  if (!(drift_bound >= 0.0) || !std::isfinite(drift_bound)) {
-    return fmt::format("drift_bound is {}; rule: must be finite and >= 0", drift_bound);
-  }
-  if (!std::isfinite(beta) || !std::isfinite(kappa)) {
-    return fmt::format("beta and kappa are {} and {}; rule: must be finite", beta, kappa);
-  }
-  if (analytic_dimension < 1 || analytic_dimension > max_analytic_dimension) {
-    return fmt::format(
-        "analytic_dimension is {}; rule: must lie in [1, {}] (the analytic twin "
-        "holds and factors a d x d curvature)",
-        analytic_dimension, max_analytic_dimension);
-  }
-  if (!(strength >= 0.0) || !std::isfinite(strength) ||
-      (nonlinearity == Nonlinearity::contact && strength > 1.0)) {
-    return fmt::format(
-        "strength is {}; rule: must be finite and >= 0, and <= 1 with the contact nonlinearity",
-        strength);
-  }
-  if (nonlinearity != Nonlinearity::none && twin_case != TwinCase::analytic) {
-    return fmt::format(
-        "nonlinearity is \"{}\" with case \"{}\"; rule: only the analytic case "
-        "takes a nonlinearity",
-        to_string(nonlinearity), to_string(twin_case));
-  }
-  if (plant_case && plant_nonlinearity) {
-    return "plant_case and plant_nonlinearity are both set; rule: the plant is another case or "
-           "the analytic twin with a nonlinearity, not both";
-  }
-  if (plant_case && (*plant_case == TwinCase::external || twin_case == TwinCase::external ||
-                     *plant_case == TwinCase::analytic || twin_case == TwinCase::analytic)) {
-    return fmt::format(
-        "plant_case is \"{}\" with case \"{}\"; rule: a separate plant case is for the FEM "
-        "cases (the analytic case takes plant_nonlinearity, the external case "
-        "plant_external_twin)",
-        to_string(*plant_case), to_string(twin_case));
-  }
-  if (plant_nonlinearity && twin_case != TwinCase::analytic) {
-    return fmt::format(
-        "plant_nonlinearity is \"{}\" with case \"{}\"; rule: only the analytic "
-        "case takes a plant nonlinearity",
-        to_string(*plant_nonlinearity), to_string(twin_case));
-  }
-  if (plant_strength) {
-    const double s = *plant_strength;
-    if (!plant_nonlinearity) {
-      return "plant_strength is set without plant_nonlinearity; rule: it is the plant "
-             "nonlinearity's strength";
-    }
-    if (!(s >= 0.0) || !std::isfinite(s) ||
-        (*plant_nonlinearity == Nonlinearity::contact && s > 1.0)) {
-      return fmt::format(
-          "plant_strength is {}; rule: must be finite and >= 0, and <= 1 with the contact "
-          "nonlinearity",
-          s);
-    }
-  }
-  if ((twin_case == TwinCase::external) != external_twin.has_value()) {
-    return fmt::format(
-        "case is \"{}\" and external_twin is {}; rule: external_twin is given "
-        "with the external case and only with it",
-        to_string(twin_case), external_twin ? "set" : "unset");
-  }
-  if (external_twin) {
-    if (auto problem = external_twin->validate()) return problem;
-  }
-  if (plant_external_twin) {
-    if (!external_twin) {
-      return fmt::format(
-          "plant_external_twin is set with case \"{}\"; rule: it is the external case's plant",
-          to_string(twin_case));
-    }
-    if (auto problem = plant_external_twin->validate()) return "plant_" + *problem;
-    const ExternalTwinSettings& twin = *external_twin;
-    const ExternalTwinSettings& plant = *plant_external_twin;
-    if (plant.locators != twin.locators || plant.lower_bounds != twin.lower_bounds ||
-        plant.upper_bounds != twin.upper_bounds || plant.upper_parts != twin.upper_parts ||
-        plant.lower_parts != twin.lower_parts) {
-      return "plant_external_twin and external_twin differ in locators, bounds or parts; rule: "
-             "the plant is the same cell (the same locators, box and assemblies) measured by "
-             "another program";
-    }
-  }
-  if (locators.empty()) return "locators is empty; rule: must name >= 1 locator";
-  if (controllers.empty()) return "controllers is empty; rule: must name >= 1 controller";
+namespace {
+
+// A nonlinearity's strength: contact's is the fraction of a gap's push that it passes on.
+std::optional<std::string> strength_problem(std::string_view field, double strength,
+                                            Nonlinearity nonlinearity) {
+  return rule::check(std::isfinite(strength) && strength >= 0.0 &&
+                         (nonlinearity != Nonlinearity::contact || strength <= 1.0),
+                     field, strength,
+                     "must be finite and >= 0, and <= 1 with the contact nonlinearity");
+}
+
+// Each controller once, each w in [0, 1].
+std::optional<std::string> controllers_problem(const std::vector<ControllerSpec>& controllers) {
   for (std::size_t i = 0; i < controllers.size(); ++i) {
     const ControllerSpec& c = controllers[i];
     if (c.uses_w() && !(c.w >= 0.0 && c.w <= 1.0)) {
-      return fmt::format("controllers[{}] has w = {}; rule: w must lie in [0, 1]", i, c.w);
+      return fmt::format("controllers[{}].w: value is {}; rule: must lie in [0, 1]", i, c.w);
     }
     for (std::size_t j = 0; j < i; ++j) {
       if (controllers[j].label() == c.label()) {
-        return fmt::format("controllers[{}] repeats \"{}\"; rule: each controller at most once", i,
-                           c.label());
+        return fmt::format("controllers[{}]: value is \"{}\"; rule: each controller at most once",
+                           i, c.label());
       }
     }
   }
-  if (candidates && *candidates < 1) {
-    return fmt::format("candidates is {}; rule: must be >= 1 (unset: 2^(2+d))", *candidates);
-  }
-  if (candidate_cap && *candidate_cap < 1) {
-    return fmt::format("candidate_cap is {}; rule: must be >= 1 (unset: no cap)", *candidate_cap);
-  }
-  if (runs < 1 || runs > max_runs) {
-    return fmt::format("runs is {}; rule: must be >= 1 and <= {}", runs, max_runs);
-  }
-  if (assemblies < 1) return fmt::format("assemblies is {}; rule: must be >= 1", assemblies);
-  if (name.find_first_of(",\n\"") != std::string::npos) {
-    return fmt::format("name is \"{}\"; rule: must not contain commas, quotes or newlines", name);
-  }
   return std::nullopt;
+}
+
+// The plant program measures the same cell as the twin's: the same locators, box and parts.
+std::optional<std::string> same_cell_problem(const ExternalTwinSettings& twin,
+                                             const ExternalTwinSettings& plant) {
+  return rule::check(plant.locators == twin.locators && plant.lower_bounds == twin.lower_bounds &&
+                         plant.upper_bounds == twin.upper_bounds &&
+                         plant.upper_parts == twin.upper_parts &&
+                         plant.lower_parts == twin.lower_parts,
+                     "plant_external_twin", "another cell than external_twin's",
+                     "the plant is the same cell (the same locators, box and assemblies) "
+                     "measured by another program");
+}
+
+}  // namespace
+
+std::optional<std::string> ExperimentConfig::validate() const {
+  const bool external = twin_case == TwinCase::external;
+  return first_problem(
+      {rule::positive_finite("process_variance", process_variance),
+       rule::positive_finite("initial_variance", initial_variance),
+       rule::positive_finite("box_half_width", box_half_width),
+       rule::positive_finite("drift_step", drift_step),
+       rule::positive_finite("divergence_threshold", divergence_threshold),
+       rule::positive_finite("alpha", alpha),
+       rule::positive_finite("measurement_variance", filter_measurement_variance()),
+       rule::non_negative_finite("plant_noise_variance", plant_noise_variance),
+       rule::non_negative_finite("drift_bound", drift_bound),
+       rule::check_fields(std::isfinite(beta) && std::isfinite(kappa), "beta and kappa",
+                          std::array{beta, kappa}, "must be finite"),
+       rule::check(analytic_dimension >= 1 && analytic_dimension <= max_analytic_dimension,
+                   "analytic_dimension", analytic_dimension,
+                   "must lie in [1, {}] (the analytic twin holds and factors a d x d curvature)",
+                   max_analytic_dimension),
+       strength_problem("strength", strength, nonlinearity),
+       rule::check_fields(nonlinearity == Nonlinearity::none || twin_case == TwinCase::analytic,
+                          "nonlinearity and case",
+                          std::array{to_string(nonlinearity), to_string(twin_case)},
+                          "only the analytic case takes a nonlinearity"),
+       rule::check(!(plant_case && plant_nonlinearity), "plant_case and plant_nonlinearity",
+                   "both set",
+                   "the plant is another case or the analytic twin with a nonlinearity, not both"),
+       rule::check_fields(
+           !plant_case || (twin_case != TwinCase::external && twin_case != TwinCase::analytic &&
+                           *plant_case != TwinCase::external && *plant_case != TwinCase::analytic),
+           "plant_case and case",
+           std::array{plant_case ? to_string(*plant_case) : std::string_view{"unset"},
+                      to_string(twin_case)},
+           "a separate plant case is for the FEM cases (the analytic case takes "
+           "plant_nonlinearity, the external case plant_external_twin)"),
+       rule::check_fields(
+           !plant_nonlinearity || twin_case == TwinCase::analytic, "plant_nonlinearity and case",
+           std::array{plant_nonlinearity ? to_string(*plant_nonlinearity) : std::string_view{},
+                      to_string(twin_case)},
+           "only the analytic case takes a plant nonlinearity"),
+       rule::check(!plant_strength || plant_nonlinearity.has_value(), "plant_strength",
+                   plant_strength.value_or(0.0),
+                   "only with plant_nonlinearity (it is that nonlinearity's strength)"),
+       plant_strength && plant_nonlinearity
+           ? strength_problem("plant_strength", *plant_strength, *plant_nonlinearity)
+           : std::nullopt,
+       rule::check_fields(
+           external == external_twin.has_value(), "case and external_twin",
+           std::array<std::string_view, 2>{to_string(twin_case), external_twin ? "set" : "unset"},
+           "external_twin is given with the external case and only with it"),
+       external_twin ? rule::nested("external_twin", *external_twin) : std::nullopt,
+       rule::check(!plant_external_twin || external_twin.has_value(), "plant_external_twin", "set",
+                   "only with the external case (case is {}): it is that case's plant",
+                   to_string(twin_case)),
+       plant_external_twin ? rule::nested("plant_external_twin", *plant_external_twin)
+                           : std::nullopt,
+       plant_external_twin && external_twin
+           ? same_cell_problem(*external_twin, *plant_external_twin)
+           : std::nullopt,
+       rule::check(!locators.empty(), "locators", "empty", "must name >= 1 locator"),
+       rule::check(!controllers.empty(), "controllers", "empty", "must name >= 1 controller"),
+       controllers_problem(controllers),
+       rule::check(!candidates || *candidates >= 1, "candidates", candidates.value_or(0),
+                   "must be >= 1 (unset: 2^(2+d))"),
+       rule::check(!candidate_cap || *candidate_cap >= 1, "candidate_cap",
+                   candidate_cap.value_or(0), "must be >= 1 (unset: no cap)"),
+       rule::check(runs >= 1 && runs <= max_runs, "runs", runs, "must lie in [1, {}]", max_runs),
+       rule::at_least("assemblies", assemblies, Index{1}),
+       rule::check(name.find_first_of(",\n\"") == std::string::npos, "name", name,
+                   "must not contain commas, quotes or newlines")});
 }
 
 namespace {
@@ -333,7 +315,8 @@ std::optional<std::string> episode_assemblies_problem(const ExperimentConfig& co
   if (config.external_twin &&
       config.assemblies > config.external_twin->upper_parts * config.external_twin->lower_parts) {
     return fmt::format(
-        "assemblies is {}; rule: must be <= the external twin's upper_parts × lower_parts = {}",
+        "assemblies: value is {}; rule: must be <= the external twin's upper_parts × lower_parts "
+        "= {}",
         config.assemblies, config.external_twin->upper_parts * config.external_twin->lower_parts);
   }
   return std::nullopt;

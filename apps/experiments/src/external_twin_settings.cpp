@@ -1,6 +1,7 @@
 // ExternalTwinSettings (external_twin_settings.hpp): checks and JSON.
 #include "twincal/experiments/external_twin_settings.hpp"
 
+#include <array>
 #include <cmath>
 #include <string_view>
 
@@ -8,66 +9,55 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 #include "twincal/experiments/strict_json.hpp"
 
 namespace twincal {
 
-std::optional<std::string> ExternalTwinSettings::validate() const {
-  if (command.empty() || command.front().empty()) {
-    return "external_twin.command is empty; rule: must name the twin's program";
-  }
-  if (locators.empty()) return "external_twin.locators is empty; rule: must name >= 1 locator";
-  const std::size_t d = locators.size();
-  if (lower_bounds.size() != d || upper_bounds.size() != d) {
-    return fmt::format(
-        "external_twin.lower_bounds and upper_bounds have {} and {} entries; rule: one per "
-        "locator ({})",
-        lower_bounds.size(), upper_bounds.size(), d);
-  }
-  for (std::size_t i = 0; i < d; ++i) {
-    if (!std::isfinite(lower_bounds[i]) || !std::isfinite(upper_bounds[i]) ||
-        !(lower_bounds[i] < upper_bounds[i])) {
+namespace {
+
+// Each locator's box is finite and not empty: u0 is searched from its centre.
+std::optional<std::string> box_problem(const std::vector<std::string>& locators,
+                                       const std::vector<double>& lower,
+                                       const std::vector<double>& upper) {
+  for (std::size_t i = 0; i < locators.size(); ++i) {
+    if (!std::isfinite(lower[i]) || !std::isfinite(upper[i]) || !(lower[i] < upper[i])) {
       return fmt::format(
-          "external_twin bounds of {} are [{}, {}]; rule: finite, lower < upper (u0 is searched "
-          "from the centre of the box)",
-          locators[i], lower_bounds[i], upper_bounds[i]);
+          "bounds of {}: value is [{}, {}]; rule: finite, lower < upper (u0 is searched from the "
+          "centre of the box)",
+          locators[i], lower[i], upper[i]);
     }
   }
-  if (upper_parts < 1 || upper_parts > max_parts || lower_parts < 1 || lower_parts > max_parts) {
-    return fmt::format(
-        "external_twin.upper_parts and lower_parts are {} and {}; rule: each in "
-        "[1, {}]",
-        upper_parts, lower_parts, max_parts);
-  }
-  if (workers < 1 || workers > 256) {
-    return fmt::format("external_twin.workers is {}; rule: must lie in [1, 256]", workers);
-  }
-  if (optimum_global_evaluations < 0 || optimum_local_evaluations < 1) {
-    return fmt::format(
-        "external_twin.optimum_global_evaluations and optimum_local_evaluations "
-        "are {} and {}; rule: >= 0 and >= 1",
-        optimum_global_evaluations, optimum_local_evaluations);
-  }
-  if (optimum_budget < 0 || optimum_budget > 1000000) {
-    return fmt::format(
-        "external_twin.optimum_budget is {}; rule: must lie in [0, 1000000] "
-        "(0: the full search)",
-        optimum_budget);
-  }
-  if (optimum_budget > 0 && optimum_budget < 2 * static_cast<Index>(locators.size()) + 2) {
-    return fmt::format(
-        "external_twin.optimum_budget is {}; rule: 0 or >= 2d + 2 = {} (BOBYQA's "
-        "first model needs 2d + 1 evaluations)",
-        optimum_budget, 2 * locators.size() + 2);
-  }
-  if (timeout_ms < 1) {
-    return fmt::format("external_twin.timeout_ms is {}; rule: must be >= 1", timeout_ms);
-  }
-  if (startup_grace_ms < 0) {
-    return fmt::format("external_twin.startup_grace_ms is {}; rule: must be >= 0",
-                       startup_grace_ms);
-  }
   return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> ExternalTwinSettings::validate() const {
+  const auto d = std::ssize(locators);
+  const bool sized = std::ssize(lower_bounds) == d && std::ssize(upper_bounds) == d;
+  return first_problem(
+      {rule::check(!command.empty() && !command.front().empty(), "command", "empty",
+                   "must name the twin's program"),
+       rule::check(d >= 1, "locators", "empty", "must name >= 1 locator"),
+       rule::check_fields(sized, "lower_bounds and upper_bounds",
+                          std::array{std::ssize(lower_bounds), std::ssize(upper_bounds)},
+                          "one entry per locator ({}) each", d),
+       sized ? box_problem(locators, lower_bounds, upper_bounds) : std::nullopt,
+       rule::check(upper_parts >= 1 && upper_parts <= max_parts, "upper_parts", upper_parts,
+                   "must lie in [1, {}]", max_parts),
+       rule::check(lower_parts >= 1 && lower_parts <= max_parts, "lower_parts", lower_parts,
+                   "must lie in [1, {}]", max_parts),
+       rule::check(workers >= 1 && workers <= 256, "workers", workers, "must lie in [1, 256]"),
+       rule::at_least("optimum_global_evaluations", optimum_global_evaluations, Index{0}),
+       rule::at_least("optimum_local_evaluations", optimum_local_evaluations, Index{1}),
+       rule::check(optimum_budget >= 0 && optimum_budget <= 1000000, "optimum_budget",
+                   optimum_budget, "must lie in [0, 1000000] (0: the full search)"),
+       rule::check(
+           optimum_budget <= 0 || optimum_budget >= 2 * d + 2, "optimum_budget", optimum_budget,
+           "0 or >= 2d + 2 = {} (BOBYQA's first model needs 2d + 1 evaluations)", 2 * d + 2),
+       rule::at_least("timeout_ms", timeout_ms, Index{1}),
+       rule::at_least("startup_grace_ms", startup_grace_ms, Index{0})});
 }
 
 void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {

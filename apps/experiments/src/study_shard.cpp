@@ -5,15 +5,14 @@
 #include <fmt/format.h>
 
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
 std::optional<std::string> StudyShard::validate() const {
-  if (count < 1) return fmt::format("count is {}; rule: must be >= 1", count);
-  if (index < 0 || index >= count) {
-    return fmt::format("index is {}; rule: must be in [0, count) = [0, {})", index, count);
-  }
-  return std::nullopt;
+  return first_problem({rule::at_least("count", count, Index{1}),
+                        rule::check(index >= 0 && index < count, "index", index,
+                                    "must lie in [0, count) = [0, {})", count)});
 }
 
 StudyShard parse_study_shard(std::string_view text, std::string_view field) {

@@ -315,41 +315,31 @@ void serve_stream(ServeSession& session, int in_fd, int out_fd) {
 }
 
 std::optional<std::string> ListenOptions::validate() const {
-  if (unix_socket) {
-    // sockaddr_un's sun_path holds 108 bytes with its terminating NUL.
-    if (unix_socket->empty() || unix_socket->string().size() > 107) {
-      return fmt::format("unix_socket: is \"{}\" ({} bytes); rule: a path of 1 … 107 bytes",
-                         unix_socket->string(), unix_socket->string().size());
-    }
-    if ((unix_socket_mode & ~0777U) != 0U) {
-      return fmt::format("unix_socket_mode: is {:o}; rule: permission bits only (e.g. 600)",
-                         unix_socket_mode);
-    }
-  }
   error_code error;
   const asio::ip::address_v4 address = asio::ip::make_address_v4(host, error);
-  if (error) return fmt::format("host: is \"{}\"; rule: an IPv4 address such as 127.0.0.1", host);
-  if (port < 0 || port > 65535) return fmt::format("port: is {}; rule: 0 … 65535", port);
-  if (max_connections < 1) {
-    return fmt::format("max_connections: is {}; rule: at least 1", max_connections);
-  }
-  if (idle_timeout <= std::chrono::milliseconds::zero()) {
-    return fmt::format("idle_timeout: is {} ms; rule: more than 0", idle_timeout.count());
-  }
-  if (token && token->size() < 16) {
-    return fmt::format("token: has {} characters; rule: at least 16", token->size());
-  }
-  if (!unix_socket && !address.is_loopback() && !token) {
-    return fmt::format(
-        "host: is {}; rule: listening beyond loopback (127.0.0.0/8) needs a token "
-        "(--token-file): a cell controller takes orders only from the cell",
-        host);
-  }
-  if (max_reply_backlog < ServeSession::max_line_bytes) {
-    return fmt::format("max_reply_backlog: is {} bytes; rule: at least {} (a reply's size)",
-                       max_reply_backlog, ServeSession::max_line_bytes);
-  }
-  return std::nullopt;
+  const std::string socket_path = unix_socket.value_or(std::filesystem::path{}).string();
+  return first_problem(
+      // sockaddr_un's sun_path holds 108 bytes with its terminating NUL.
+      {rule::check(!unix_socket || (!socket_path.empty() && socket_path.size() <= 107),
+                   "unix_socket", fmt::format("\"{}\" ({} bytes)", socket_path, socket_path.size()),
+                   "a path of 1 … 107 bytes"),
+       rule::check(!unix_socket || (unix_socket_mode & ~0777U) == 0U, "unix_socket_mode",
+                   fmt::format("{:o}", unix_socket_mode), "permission bits only (e.g. 600)"),
+       rule::check(!error, "host", fmt::format("\"{}\"", host),
+                   "an IPv4 address such as 127.0.0.1"),
+       rule::check(port >= 0 && port <= 65535, "port", port, "0 … 65535"),
+       rule::at_least("max_connections", max_connections, 1),
+       rule::check(idle_timeout > std::chrono::milliseconds::zero(), "idle_timeout",
+                   idle_timeout.count(), "more than 0 (ms)"),
+       rule::check(!token || token->size() >= 16, "token",
+                   fmt::format("{} characters", token.value_or("").size()), "at least 16"),
+       rule::check(unix_socket.has_value() || error || address.is_loopback() || token.has_value(),
+                   "host", host,
+                   "listening beyond loopback (127.0.0.0/8) needs a token (--token-file): a cell "
+                   "controller takes orders only from the cell"),
+       rule::check(max_reply_backlog >= ServeSession::max_line_bytes, "max_reply_backlog",
+                   fmt::format("{} bytes", max_reply_backlog), "at least {} (a reply's size)",
+                   ServeSession::max_line_bytes)});
 }
 
 namespace {

@@ -79,14 +79,16 @@ ExperimentConfig settings_config(const json& settings) {
 }  // namespace
 
 std::optional<std::string> ServeOptions::validate() const {
-  if (auto problem = config.validate()) return "config: " + *problem;
-  if (config.plant_case || config.plant_nonlinearity || config.plant_external_twin) {
-    return "config: a plant (plant_case, plant_nonlinearity or plant_external_twin) is set; "
-           "rule: twincal serve's plant is the cell, so a served config sets none";
-  }
-  return first_problem({rule::check(run >= 0, "run", run, "must be >= 0"),
-                        rule::check(snapshot_interval >= 0, "snapshot_interval", snapshot_interval,
-                                    "must be >= 0 (0: no snapshots)")});
+  return first_problem(
+      {rule::nested("config", config),
+       rule::check(!config.plant_case && !config.plant_nonlinearity && !config.plant_external_twin,
+                   "config.plant_case, plant_nonlinearity and plant_external_twin",
+                   "one of them set",
+                   "twincal serve's plant is the cell, so a served config sets "
+                   "none"),
+       rule::check(run >= 0, "run", run, "must be >= 0"),
+       rule::check(snapshot_interval >= 0, "snapshot_interval", snapshot_interval,
+                   "must be >= 0 (0: no snapshots)")});
 }
 std::optional<std::string> ResumeOptions::validate() const {
   return rule::check(snapshot_interval >= 0, "snapshot_interval", snapshot_interval,

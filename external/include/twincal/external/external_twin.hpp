@@ -33,6 +33,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -48,6 +49,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
@@ -82,32 +84,22 @@ struct ExternalTwinOptions {
   double max_quality = 1e6;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (command.empty() || command.front().empty()) {
-      return "command is empty; rule: must name an executable";
-    }
-    if (locator_names.empty()) return "locator_names is empty; rule: must name >= 1 locator";
-    const auto d = locator_names.size();
-    if (lower_bounds.size() != 0 && static_cast<std::size_t>(lower_bounds.size()) != d) {
-      return fmt::format("lower_bounds has {} entries; rule: must be empty or have {}",
-                         lower_bounds.size(), d);
-    }
-    if (upper_bounds.size() != 0 && static_cast<std::size_t>(upper_bounds.size()) != d) {
-      return fmt::format("upper_bounds has {} entries; rule: must be empty or have {}",
-                         upper_bounds.size(), d);
-    }
-    if (timeout.count() <= 0)
-      return fmt::format("timeout is {} ms; rule: must be > 0", timeout.count());
-    if (max_reply_bytes < 1024) {
-      return fmt::format("max_reply_bytes is {}; rule: must be >= 1024", max_reply_bytes);
-    }
-    if (!(max_quality > 0.0) || !std::isfinite(max_quality)) {
-      return fmt::format("max_quality is {}; rule: must be finite and > 0", max_quality);
-    }
-    if (startup_grace.count() < 0 || shutdown_grace.count() < 0) {
-      return fmt::format("startup_grace and shutdown_grace are {} and {} ms; rule: must be >= 0",
-                         startup_grace.count(), shutdown_grace.count());
-    }
-    return std::nullopt;
+    const Index d = std::ssize(locator_names);
+    return first_problem(
+        {rule::check(!command.empty() && !command.front().empty(), "command", "empty",
+                     "must name an executable"),
+         rule::check(d >= 1, "locator_names", "empty", "must name >= 1 locator"),
+         rule::check(lower_bounds.size() == 0 || lower_bounds.size() == d, "lower_bounds",
+                     fmt::join(lower_bounds, ", "), "must be empty or hold {} entries", d),
+         rule::check(upper_bounds.size() == 0 || upper_bounds.size() == d, "upper_bounds",
+                     fmt::join(upper_bounds, ", "), "must be empty or hold {} entries", d),
+         rule::check(timeout.count() > 0, "timeout", timeout.count(), "must be > 0 (ms)"),
+         rule::at_least("max_reply_bytes", max_reply_bytes, decltype(max_reply_bytes){1024}),
+         rule::positive_finite("max_quality", max_quality),
+         rule::check_fields(startup_grace.count() >= 0 && shutdown_grace.count() >= 0,
+                            "startup_grace and shutdown_grace",
+                            std::array{startup_grace.count(), shutdown_grace.count()},
+                            "must be >= 0 (ms)")});
   }
 };
 

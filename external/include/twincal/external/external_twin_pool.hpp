@@ -44,11 +44,9 @@ struct ExternalTwinPoolOptions {
   static constexpr Index max_workers = 256;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (workers < 1 || workers > max_workers) {
-      return fmt::format("workers is {}; rule: must lie in [1, {}]", workers, max_workers);
-    }
-    if (auto problem = twin.validate()) return "twin: " + *problem;
-    return std::nullopt;
+    return first_problem({rule::check(workers >= 1 && workers <= max_workers, "workers", workers,
+                                      "must lie in [1, {}]", max_workers),
+                          rule::nested("twin", twin)});
   }
 };
 

@@ -2,13 +2,11 @@
 /// @file
 /// `PlateSection`: material and thickness of a thin isotropic plate (units mm, N, MPa).
 
-#include <cmath>
 #include <optional>
 #include <string>
 
-#include <fmt/format.h>
-
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
@@ -19,16 +17,9 @@ struct PlateSection {
   double thickness = 0.8;           ///< t in mm
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (!(young_modulus > 0.0) || !std::isfinite(young_modulus)) {
-      return fmt::format("young_modulus: is {}; rule: must be finite and > 0", young_modulus);
-    }
-    if (!(poisson_ratio > -1.0 && poisson_ratio < 0.5)) {
-      return fmt::format("poisson_ratio: is {}; rule: must lie in (-1, 0.5)", poisson_ratio);
-    }
-    if (!(thickness > 0.0) || !std::isfinite(thickness)) {
-      return fmt::format("thickness: is {}; rule: must be finite and > 0", thickness);
-    }
-    return std::nullopt;
+    return first_problem({rule::positive_finite("young_modulus", young_modulus),
+                          rule::in_open("poisson_ratio", poisson_ratio, -1.0, 0.5),
+                          rule::positive_finite("thickness", thickness)});
   }
 
   /// Flexural rigidity D = E t³ / (12 (1 − ν²)) in N·mm.

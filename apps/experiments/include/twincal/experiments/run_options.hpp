@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/options.hpp"
 #include "twincal/experiments/study_shard.hpp"
 
 namespace twincal {
@@ -23,11 +24,9 @@ struct RunOptions {
   StudyShard shard;
 
   [[nodiscard]] std::optional<std::string> validate() const {
-    if (threads < 0) {
-      return fmt::format("threads is {}; rule: must be >= 0 (0: all cores)", threads);
-    }
-    if (std::optional<std::string> problem = shard.validate()) return "shard " + *problem;
-    return std::nullopt;
+    return first_problem(
+        {rule::check(threads >= 0, "threads", threads, "must be >= 0 (0: all cores)"),
+         rule::nested("shard", shard)});
   }
 };
 
