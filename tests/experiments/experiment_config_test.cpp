@@ -164,7 +164,8 @@ TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
   config = {};
   config.controllers = {ControllerSpec::default_controller(), ControllerSpec::default_controller()};
   ASSERT_TRUE(config.validate().has_value());
-  EXPECT_NE(config.validate()->find("repeats \"default\""), std::string::npos);
+  EXPECT_NE(config.validate()->find("value is \"default\"; rule: each controller at most once"),
+            std::string::npos);
   config = {};
   config.measurement_variance = 0.0;
   EXPECT_TRUE(config.validate().has_value());
@@ -194,7 +195,8 @@ TEST(ExperimentConfig, CandidateCountIsThePapersOrTheSetCountCapped) {
   config.candidate_cap.reset();
   config.controllers = {ControllerSpec::per_component(1.5)};
   ASSERT_TRUE(config.validate().has_value());
-  EXPECT_NE(config.validate()->find("w = 1.5"), std::string::npos);
+  EXPECT_NE(config.validate()->find("controllers[0].w: value is 1.5; rule: must lie in [0, 1]"),
+            std::string::npos);
 }
 
 TEST(ExperimentConfig, EpisodeDefiningJsonIgnoresNameRunsAndControllers) {

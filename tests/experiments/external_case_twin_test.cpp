@@ -180,7 +180,7 @@ TEST(ExternalCaseTwin, BudgetedSearchFindsTheOptimumWithinItsBudget) {
   }
   settings.optimum_budget = 7;  // < 2d + 2
   EXPECT_THAT(settings.validate().value_or(""),
-              HasSubstr("external_twin.optimum_budget: value is 7; rule: 0 or >= 2d + 2 = 8"));
+              HasSubstr("optimum_budget: value is 7; rule: 0 or >= 2d + 2 = 8"));
   nlohmann::json json = settings;
   json["optimum_budget"] = 16.5;
   EXPECT_THROW((void)json.get<ExternalTwinSettings>(), InvalidArgumentError);
@@ -225,8 +225,7 @@ TEST(ExternalTwinSettings, PlantExternalTwinIsTheSameCellMeasuredByAnotherProgra
   other = config;
   other.plant_external_twin->locators = {"A", "B", "D"};
   EXPECT_THAT(other.validate().value_or(""),
-              HasSubstr("plant_external_twin and external_twin differ in locators, bounds or "
-                        "parts"));
+              HasSubstr("plant_external_twin: value is another cell than external_twin's"));
   other = config;
   other.plant_external_twin->upper_parts = 3;
   EXPECT_TRUE(other.validate().has_value());
