@@ -12,6 +12,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include "benchmark_problem.hpp"
 #include "twincal/filters/fifth_degree_cubature_sigma_points.hpp"
 #include "twincal/filters/merwe_scaled_sigma_points.hpp"
 #include "twincal/filters/quadratic_quality_measurement.hpp"
@@ -21,32 +22,12 @@
 namespace twincal::benchmarks {
 namespace {
 
-// The paper's random walk (eq. 5c), here to keep the benchmark within the filters module.
-template <int N>
-class Walk {
- public:
-  static constexpr int dimension_at_compile_time = N;
-  explicit Walk(Index n) : q_(SquareMatrix<N>::Identity(n, n) * 1e-3) {}
-  [[nodiscard]] Index dimension() const { return q_.rows(); }
-  [[nodiscard]] const Vector<N>& propagate(const Vector<N>& x) const { return x; }
-  [[nodiscard]] const SquareMatrix<N>& process_noise() const { return q_; }
-
- private:
-  SquareMatrix<N> q_;
-};
-
 template <typename Case, int N>
 auto make_filter(Index n) {
   using Scheme = decltype(Case::make());
   using Filter = SigmaPointFilter<Walk<N>, QuadraticQualityMeasurement<N>, Scheme>;
-  return Filter(Walk<N>(n),
-                QuadraticQualityMeasurement<N>(SquareMatrix<N>::Identity(n, n), 0.04, 1e-4),
-                Case::make(), Vector<N>::Zero(n), SquareMatrix<N>::Identity(n, n) * 1e-3);
-}
-
-template <int N>
-typename QuadraticQualityMeasurement<N>::Inputs inputs(Index n) {
-  return {Vector<N>::Constant(n, 0.05), Vector<N>::Constant(n, 0.1)};
+  return Filter(Walk<N>(n), measurement<N>(n), Case::make(), Vector<N>::Zero(n),
+                SquareMatrix<N>::Identity(n, n) * 1e-3);
 }
 
 template <typename Case, int N>
