@@ -15,8 +15,8 @@
 namespace twincal {
 namespace {
 
-constexpr SheetMetalPart upper = SheetMetalPart::upper;
-constexpr SheetMetalPart lower = SheetMetalPart::lower;
+constexpr SheetMetalPart upper_part = SheetMetalPart::upper;
+constexpr SheetMetalPart lower_part = SheetMetalPart::lower;
 
 SheetMetalLayout refined(SheetMetalLayout layout, const CalculixOptions& options) {
   if (auto problem = options.validate()) {
@@ -56,8 +56,8 @@ void append(std::string& out, fmt::format_string<Args...> format, Args&&... args
 CalculixModel::CalculixModel(SheetMetalLayout layout, CalculixOptions options)
     : layout_(refined(std::move(layout), options)),
       options_(std::move(options)),
-      upper_mesh_(layout_.mesh(upper)),
-      lower_mesh_(layout_.mesh(lower)),
+      upper_mesh_(layout_.mesh(upper_part)),
+      lower_mesh_(layout_.mesh(lower_part)),
       pairs_(options_.contact ? flange_contact_pairs(layout_) : std::vector<ContactPair>{}) {
   const auto node_of = [&](const LayoutPoint& point) {
     return PointNode{point.part, mesh(point.part).node_at(point.x, point.y, point.name)};
@@ -81,15 +81,15 @@ CalculixModel::CalculixModel(SheetMetalLayout layout, CalculixOptions options)
           "layout.locators",
           fmt::format("layout.locators: the {} part has {}; rule: at least 2 per part (the "
                       "in-plane pins)",
-                      part == upper ? "upper" : "lower", points.size()));
+                      part == upper_part ? "upper" : "lower", points.size()));
     }
     const LayoutPoint& a = *points[0];
     const LayoutPoint& b = *points[1];
     return InPlanePins{mesh(part).node_at(a.x, a.y, a.name), mesh(part).node_at(b.x, b.y, b.name),
                        std::abs(b.x - a.x) >= std::abs(b.y - a.y) ? 2 : 1};
   };
-  lower_pins_ = pins(lower);
-  upper_pins_ = pins(upper);
+  lower_pins_ = pins(lower_part);
+  upper_pins_ = pins(upper_part);
 }
 
 Index CalculixModel::deck_node_count() const noexcept {
@@ -100,7 +100,7 @@ Index CalculixModel::deck_node_count() const noexcept {
 Index CalculixModel::deck_node(SheetMetalPart part, Index node, Index face) const noexcept {
   // Lower sheet: bottom face, then top face; then the upper sheet's two faces. 1-based.
   const Index lower_nodes = lower_mesh_.node_count();
-  if (part == lower) return 1 + face * lower_nodes + node;
+  if (part == lower_part) return 1 + face * lower_nodes + node;
   return 1 + 2 * lower_nodes + face * upper_mesh_.node_count() + node;
 }
 
@@ -111,7 +111,7 @@ Index CalculixModel::weld_aux_node(std::size_t weld) const noexcept {
 
 double CalculixModel::free_shape(const CalculixParts& parts, SheetMetalPart part,
                                  Index node) const noexcept {
-  return part == upper ? parts.upper(node) : parts.lower(node);
+  return part == upper_part ? parts.upper(node) : parts.lower(node);
 }
 
 void CalculixModel::require_parts(const CalculixParts& parts) const {
@@ -151,9 +151,9 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
          layout_.name, layout_.element_size, options_.contact ? "on" : "off",
          options_.geometric_nonlinearity ? "on" : "off");
   out += "*NODE, NSET=NALL\n";
-  for (const SheetMetalPart part : {lower, upper}) {
+  for (const SheetMetalPart part : {lower_part, upper_part}) {
     const PlateMesh& m = mesh(part);
-    const double mid = part == upper ? t + options_.nominal_gap : 0.0;
+    const double mid = part == upper_part ? t + options_.nominal_gap : 0.0;
     for (Index face = 0; face < 2; ++face) {
       const double offset = face == 0 ? -0.5 * t : 0.5 * t;
       for (Index node = 0; node < m.node_count(); ++node) {
@@ -167,9 +167,9 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
            ccx_number(layout_.welds[w].y()));
   }
   Index element = 0;
-  for (const SheetMetalPart part : {lower, upper}) {
+  for (const SheetMetalPart part : {lower_part, upper_part}) {
     const PlateMesh& m = mesh(part);
-    append(out, "*ELEMENT, TYPE=C3D8I, ELSET={}\n", part == upper ? "UPPER" : "LOWER");
+    append(out, "*ELEMENT, TYPE=C3D8I, ELSET={}\n", part == upper_part ? "UPPER" : "LOWER");
     for (Index j = 0; j < m.elements_y(); ++j) {
       for (Index i = 0; i < m.elements_x(); ++i) {
         const Eigen::Matrix<Index, 4, 1> corners = m.element_nodes(i, j);
@@ -188,8 +188,8 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
     const Index aux = weld_aux_node(w);
     for (Index face = 0; face < 2; ++face) {
       append(out, "3\n{}, 3, 1., {}, 3, -1., {}, 3, -1.\n",
-             deck_node(upper, upper_weld_nodes_[w], face),
-             deck_node(lower, lower_weld_nodes_[w], 1 - face), aux);
+             deck_node(upper_part, upper_weld_nodes_[w], face),
+             deck_node(lower_part, lower_weld_nodes_[w], 1 - face), aux);
     }
   }
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
@@ -197,7 +197,7 @@ void CalculixModel::write_model(std::string& out, const CalculixParts& parts) co
     const double clearance =
         options_.nominal_gap + parts.upper(pair.upper_node) - parts.lower(pair.lower_node);
     append(out, "*ELEMENT, TYPE=GAPUNI, ELSET=GAP{}\n{}, {}, {}\n", k, ++element,
-           deck_node(lower, pair.lower_node, 1), deck_node(upper, pair.upper_node, 0));
+           deck_node(lower_part, pair.lower_node, 1), deck_node(upper_part, pair.upper_node, 0));
     append(out, "*GAP, ELSET=GAP{}\n{}, 0., 0., 1., , {}, {}\n", k, ccx_number(clearance),
            ccx_number(options_.gap_stiffness), ccx_number(options_.open_gap_force));
   }
@@ -228,7 +228,8 @@ void CalculixModel::write_fixture(std::string& out, const CalculixParts& parts,
   } else {
     for (const PointNode& support : support_nodes_) hold(support, 0.0);
   }
-  for (const auto& [part, pins] : {std::pair{lower, lower_pins_}, std::pair{upper, upper_pins_}}) {
+  for (const auto& [part, pins] :
+       {std::pair{lower_part, lower_pins_}, std::pair{upper_part, upper_pins_}}) {
     append(out, "{}, 1, 2\n{}, {}, {}\n", deck_node(part, pins.both, 0),
            deck_node(part, pins.one, 0), pins.direction, pins.direction);
   }

@@ -9,11 +9,6 @@ namespace twincal {
 
 namespace {
 
-std::vector<Index> tied_components(WeldTie tie) {
-  if (tie == WeldTie::translation) return {0};
-  return {0, 1, 2};
-}
-
 // The constraints of SheetMetalProcess's release stage, in its order: the weld ties (the tied
 // components of each weld, upper slave, lower master), then the final supports.
 std::vector<LinearConstraint> release_constraints(const SheetMetalProcess& process,

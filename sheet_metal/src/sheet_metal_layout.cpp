@@ -62,6 +62,11 @@ void add_grid(std::vector<LayoutPoint>& points, const std::string& prefix, Sheet
 
 }  // namespace
 
+std::vector<Index> tied_components(WeldTie tie) {
+  if (tie == WeldTie::translation) return {0};
+  return {0, 1, 2};
+}
+
 SheetMetalLayout SheetMetalLayout::lap_joint() {
   constexpr SheetMetalPart upper = SheetMetalPart::upper;
   constexpr SheetMetalPart lower = SheetMetalPart::lower;

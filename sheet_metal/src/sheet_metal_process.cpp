@@ -58,11 +58,6 @@ std::vector<Index> weld_nodes_of(const std::vector<Vector<2>>& welds, const Plat
   return nodes;
 }
 
-std::vector<Index> tied_components(WeldTie tie) {
-  if (tie == WeldTie::translation) return {0};
-  return {0, 1, 2};
-}
-
 }  // namespace
 
 SheetMetalProcess::SheetMetalProcess(SheetMetalLayout layout, const PlateSection& section)

@@ -17,7 +17,7 @@
 namespace twincal {
 namespace {
 
-thread_local std::uint64_t evaluations = 0;
+thread_local std::uint64_t thread_evaluations = 0;
 
 // Per-thread grow-only workspace for the full controls: a batch of a size seen before reuses it.
 Eigen::Block<MatrixX, Dynamic, Dynamic, true> full_controls(Index rows, Index cols) {
@@ -179,7 +179,7 @@ double CaseTwin::plant_quality(const AssemblyId& assembly,
 double CaseTwin::quality(const AssemblyId& assembly,
                          const Eigen::Ref<const VectorX>& control) const {
   const double value = evaluate(twin_, assembly, control);
-  ++evaluations;
+  ++thread_evaluations;
   return value;
 }
 
@@ -190,22 +190,22 @@ void CaseTwin::quality_batch(const AssemblyId& assembly, const Eigen::Ref<const 
       full_controls(twin_.control_dimension(), controls.cols());
   embed(position(assembly), controls, full);
   twin_.quality_batch(assembly, full, out);
-  evaluations += static_cast<std::uint64_t>(controls.cols());
+  thread_evaluations += static_cast<std::uint64_t>(controls.cols());
 }
 
-std::uint64_t CaseTwin::evaluations_on_this_thread() noexcept { return evaluations; }
+std::uint64_t CaseTwin::evaluations_on_this_thread() noexcept { return thread_evaluations; }
 
 double median_quadratic_departure(const CaseTwin& twin, Index assemblies) {
   const std::vector<AssemblyId>& all = twin.assemblies();
   const Index count = std::min(assemblies, std::ssize(all));
   std::vector<double> departures;
-  const std::uint64_t before = evaluations;
+  const std::uint64_t before = thread_evaluations;
   for (Index k = 0; k < count; ++k) {
     const AssemblyId& x = all[static_cast<std::size_t>(k)];
     departures.push_back(
         quadratic_departure(twin, x, twin.optimum(x), RandomStream(static_cast<std::uint64_t>(k))));
   }
-  evaluations = before;  // a property of the twin, not of any controller's step
+  thread_evaluations = before;  // a property of the twin, not of any controller's step
   if (departures.empty()) return 0.0;
   std::sort(departures.begin(), departures.end());
   const std::size_t n = departures.size();

@@ -35,10 +35,6 @@ struct Shard {
   std::map<Key, StoredEpisode> episodes;
 };
 
-Error file_error(const fs::path& path, std::string_view what) {
-  return Error(path.string(), fmt::format("{}: {}", path.string(), what));
-}
-
 Shard read_shard(const fs::path& directory, std::size_t number) {
   const fs::path summary_path = directory / ResultStore::summary_name;
   if (!fs::exists(summary_path)) {

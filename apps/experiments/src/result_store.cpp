@@ -20,10 +20,6 @@ constexpr const char* csv_header =
     "group,controller,run,t,upper,lower,z,z_star,relative_residual,control,estimate,offset,"
     "estimation_error,trace_p,q_evaluations,seconds";
 
-Error file_error(const fs::path& path, std::string_view what) {
-  return Error(path.string(), fmt::format("{}: {}", path.string(), what));
-}
-
 // Shortest form that reads back to the same double; "nan" for a missing value.
 std::string number(double value) {
   return std::isnan(value) ? std::string("nan") : fmt::format("{}", value);
@@ -48,6 +44,10 @@ std::ofstream open_append(const fs::path& path) {
 }
 
 }  // namespace
+
+Error file_error(const fs::path& path, std::string_view what) {
+  return Error(path.string(), fmt::format("{}: {}", path.string(), what));
+}
 
 bool csv_row_key(const std::string& line, std::string& group, std::string& controller, Index& run) {
   const std::size_t first = line.find(',');

@@ -33,6 +33,10 @@ enum class WeldTie {
   translation_and_rotation,  ///< and their two rotations (the nugget freezes the relative angle)
 };
 
+/// The plate degrees of freedom a weld ties under `tie`, as PlateMesh::dof components: 0 (w), or
+/// 0, 1, 2 (w, θx, θy).
+[[nodiscard]] std::vector<Index> tied_components(WeldTie tie);
+
 /// A named point of one part (a locator, a key point, a support).
 struct LayoutPoint {
   std::string name;

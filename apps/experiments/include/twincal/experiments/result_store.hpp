@@ -17,17 +17,22 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <string_view>
 #include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/episode_result.hpp"
 #include "twincal/experiments/experiment_group.hpp"
 
 namespace twincal {
+
+/// The error of a results file or directory: Error("<path>: <what>"), keyed by the path.
+[[nodiscard]] Error file_error(const std::filesystem::path& path, std::string_view what);
 
 class ResultStore {
  public:
