@@ -20,8 +20,7 @@ namespace twincal {
 /// @throws InvalidArgumentError unless `value` is a JSON integer within T's range.
 template <typename T>
 void require_json_integer(const nlohmann::json& value, std::string_view key) {
-  const std::string shown =
-      value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  const std::string shown = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   const auto refuse = [&](std::string_view rule) {
     throw InvalidArgumentError(std::string(key),
                                fmt::format("{}: is {}; rule: {}", key, shown, rule));
