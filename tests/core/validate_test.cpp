@@ -1,10 +1,12 @@
 #include "twincal/core/validate.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/QR>
 
 namespace twincal {
 namespace {
@@ -126,6 +128,42 @@ TEST(RequireSymmetric, ToleranceIsRelative) {
               HasSubstr("P: relative asymmetry max|m - mᵀ|/max|m| is 1e-06; rule: must be "
                         "symmetric to 1e-12"));
   EXPECT_DOUBLE_EQ(relative_asymmetry(Eigen::Matrix2d::Zero()), 0.0);
+}
+
+// A symmetric n × n matrix with eigenvalues 1, 2, …, n, plus a skew part that eigenvalue_range
+// must ignore: its range is exactly [1, n] up to round-off.
+MatrixX known_spectrum(Index n) {
+  const MatrixX rotation = Eigen::HouseholderQR<MatrixX>(MatrixX::Random(n, n)).householderQ();
+  const VectorX spectrum = VectorX::LinSpaced(n, 1.0, static_cast<double>(n));
+  const MatrixX skew = MatrixX::Random(n, n);
+  return rotation * spectrum.asDiagonal() * rotation.transpose() + (skew - skew.transpose());
+}
+
+// The compiled sizes (validate.cpp: run-time, 1, 2, 3, 6) and the inline ones give the same
+// range, at compile-time and at run-time size.
+template <int N>
+void expect_range_of_known_spectrum() {
+  const MatrixX m = known_spectrum(N);
+  const SquareMatrix<N> fixed = m;
+  const auto [fixed_min, fixed_max] = eigenvalue_range(fixed);
+  const auto [dynamic_min, dynamic_max] = eigenvalue_range(m);
+  const double tolerance = 1e-12 * N;
+  EXPECT_NEAR(fixed_min, 1.0, tolerance) << "N = " << N;
+  EXPECT_NEAR(fixed_max, static_cast<double>(N), tolerance) << "N = " << N;
+  EXPECT_NEAR(dynamic_min, fixed_min, tolerance) << "N = " << N;
+  EXPECT_NEAR(dynamic_max, fixed_max, tolerance) << "N = " << N;
+}
+
+TEST(EigenvalueRange, IsTheSymmetricPartsRangeAtEverySize) {
+  std::srand(2023);
+  expect_range_of_known_spectrum<1>();
+  expect_range_of_known_spectrum<2>();
+  expect_range_of_known_spectrum<3>();
+  expect_range_of_known_spectrum<4>();
+  expect_range_of_known_spectrum<6>();
+  expect_range_of_known_spectrum<9>();
+  EXPECT_DOUBLE_EQ(
+      smallest_eigenvalue(Eigen::Matrix3d(Eigen::Vector3d(4.0, 2.0, 3.0).asDiagonal())), 2.0);
 }
 
 TEST(RequirePositiveDefinite, AcceptsSpdAndReportsSmallestEigenvalue) {

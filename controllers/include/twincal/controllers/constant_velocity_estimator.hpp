@@ -76,68 +76,7 @@ class ConstantVelocityEstimator {
   /// variance `measurement_variance` (σz² of z). Call reset() before the first fit.
   /// @throws InvalidArgumentError (options, widths, variance), DimensionMismatchError.
   ConstantVelocityEstimator(const VectorX& box_width, double measurement_variance,
-                            const ConstantVelocityOptions& options = {})
-      : options_((require_valid("ConstantVelocityOptions", options), options)),
-        measurement_variance_(measurement_variance),
-        width_(box_width),
-        factor_(2 * box_width.size()),
-        hessian_eigen_(box_width.size()),
-        state_eigen_(2 * box_width.size()) {
-    require_finite("box_width", width_);
-    if (!(width_.size() > 0) || !(width_.minCoeff() > 0.0)) {
-      throw InvalidArgumentError("box_width",
-                                 "box_width: rule: must have entries, all > 0 (the control box)");
-    }
-    require_finite("measurement_variance", measurement_variance_);
-    require_positive("measurement_variance", measurement_variance_);
-    const Index d = width_.size();
-    if constexpr (N != Dynamic) require_dimension("box_width", d, N);
-    const Index s = 2 * d;
-    const Index capacity = options_.max_history;
-    times_.assign(static_cast<std::size_t>(capacity), 0);
-    controls_.resize(d, capacity);
-    applied_.resize(d, capacity);
-    values_.resize(capacity);
-    half_gradients_.resize(d, capacity);
-    hessians_.resize(d, d * capacity);
-    qualities_.resize(capacity);
-    weights_.resize(capacity);
-    model_variances_.resize(capacity);
-    const Index lags = options_.change_lag + 1;
-    snapshot_times_.assign(static_cast<std::size_t>(lags), 0);
-    snapshot_states_.resize(s, lags);
-    snapshot_covariances_.resize(d, d * lags);
-    prior_mean_.resize(s);
-    prior_covariance_.resize(s, s);
-    state_.setZero(s);
-    covariance_.setIdentity(s, s);
-    shift_.setIdentity(s, s);
-    shifted_mean_.resize(s);
-    shifted_covariance_.resize(s, s);
-    prior_precision_.resize(s, s);
-    identity_ = StateMatrix::Identity(s, s);
-    trial_.resize(s);
-    candidate_.resize(s);
-    best_.resize(s);
-    start_.resize(s);
-    step_.resize(s);
-    gradient_.resize(s);
-    difference_.resize(s);
-    weighted_difference_.resize(s);
-    normal_.resize(s, s);
-    jacobian_.resize(capacity, s);
-    residuals_.resize(capacity);
-    error_.resize(d);
-    curvature_error_.resize(d);
-    slope_.resize(d);
-    velocity_.resize(d);
-    position_.resize(d);
-    position_covariance_.resize(d, d);
-    prior_scale_.resize(s);
-    last_hessian_.resize(d, d);
-    model_misfit_.resize(options_.misfit_window);
-    residual_workspace_.assign(static_cast<std::size_t>(options_.misfit_window), 0.0);
-  }
+                            const ConstantVelocityOptions& options = {});
 
   [[nodiscard]] Index dimension() const noexcept { return width_.size(); }
   [[nodiscard]] const ConstantVelocityOptions& options() const noexcept { return options_; }
@@ -162,29 +101,7 @@ class ConstantVelocityEstimator {
   /// Forgets the history and starts from δu ~ N(position, position_covariance) at `time`, with
   /// a velocity ~ N(0, (velocity_fraction · width)²) per locator.
   /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError; state unchanged.
-  void reset(Index time, const OffsetVector& position, const OffsetMatrix& position_covariance) {
-    const Index d = dimension();
-    require_dimension("position", position.size(), d);
-    require_finite("position", position);
-    require_shape("position_covariance", position_covariance, d, d);
-    require_positive_definite("position_covariance", position_covariance);
-    prior_mean_.head(d) = position;
-    prior_mean_.tail(d).setZero();
-    prior_covariance_.setZero();
-    prior_covariance_.topLeftCorner(d, d) = position_covariance;
-    prior_covariance_.diagonal().tail(d) =
-        (options_.velocity_fraction * width_).array().square().matrix();
-    prior_time_ = time;
-    size_ = 0;
-    head_ = 0;
-    snapshots_ = 0;
-    model_misfit_.clear();
-    residual_scale_ = 1.0;
-    changes_ = 0;
-    changed_ = false;
-    fitted_ = false;
-    fit(time);
-  }
+  void reset(Index time, const OffsetVector& position, const OffsetMatrix& position_covariance);
 
   /// reset() with δu ~ N(position, (initial_position_fraction · width)²) per locator: the start
   /// of an episode.
@@ -202,99 +119,10 @@ class ConstantVelocityEstimator {
   /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError (time, a negative
   ///         model_variance); state unchanged.
   double add(Index time, const QuadraticModel<N>& model, const OffsetVector& control, double z,
-             double model_variance = 0.0) {
-    const Index d = dimension();
-    require_dimension("control", control.size(), d);
-    require_dimension("model", model.dimension(), d);
-    require_finite("control", control);
-    require_finite("z", z);
-    require_finite("model_variance", model_variance);
-    require_non_negative("model_variance", model_variance);
-    if (size_ > 0 && time < time_of(size_ - 1)) {
-      throw InvalidArgumentError(
-          "time", fmt::format("time: value is {}; rule: must be >= the last time in the history, "
-                              "{}",
-                              time, time_of(size_ - 1)));
-    }
-    if (!fitted_ || fit_time_ != time) fit(time);
-
-    if (size_ == options_.max_history) {  // the oldest assembly leaves the ring
-      head_ = (head_ + 1) % options_.max_history;
-      --size_;
-    }
-    const Index i = slot(size_);
-    times_[static_cast<std::size_t>(i)] = time;
-    controls_.col(i) = control - model.center;
-    applied_.col(i) = control;
-    values_(i) = model.value;
-    half_gradients_.col(i) = model.half_gradient;
-    // H as fitted may have tiny negative eigenvalues (finite differences along directions the
-    // quality ignores); along them the fit would run away, so they are clipped at 0. The
-    // surrogate keeps H for many assemblies: an unchanged H reuses the previous entry's.
-    if (size_ > 0 && model.hessian == last_hessian_) {
-      hessians_.middleCols(i * d, d) = hessians_.middleCols(slot(size_ - 1) * d, d);
-    } else {
-      last_hessian_ = model.hessian;
-      clip_hessian(last_hessian_, i);
-    }
-    qualities_(i) = z;
-    weights_(i) = 1.0 / (measurement_variance_ + model_variance);
-    model_variances_(i) = model_variance;
-    ++size_;
-
-    // The innovation of z against the prediction at `time` (a = position_, τ = 0).
-    const double residual = residual_at(size_ - 1, state_, time);
-    curvature_error_.noalias() = position_covariance_ * slope_;
-    const double variance = 1.0 / weights_(slot(size_ - 1)) + slope_.dot(curvature_error_);
-    const double normalized = residual * residual / variance;
-    // The gate's scale counts only entries whose model errs (τ² > 0): an exact model's misfit is
-    // the estimate's own error or a change of velocity, which is what the gate is there to see
-    // (measured: with every entry, a quadratic twin at d = 32 ran a residual of 0.18 instead of
-    // 0.14).
-    if (options_.misfit_window > 0 && model_variance > 0.0) model_misfit_.add(normalized);
-    return normalized;
-  }
+             double model_variance = 0.0);
 
   /// The estimate at assembly `time` from the prior and the history (see the file comment).
-  void fit(Index time) {
-    const Index d = dimension();
-    changed_ = false;
-    shift_prior(time);
-    // Warm start: the last estimate moved to `time` with its velocity.
-    if (fitted_) {
-      start_ = state_;
-      start_.head(d) += static_cast<double>(time - fit_time_) * state_.tail(d);
-    } else {
-      start_ = shifted_mean_;
-    }
-    double cost = solve(start_, time, best_);
-    if (data_cost_ > static_cast<double>(size_) * options_.change_gate * options_.change_gate) {
-      // The warm start explains the data badly: also try its mirror image and the prior mean.
-      for (int candidate = 0; candidate < 2; ++candidate) {
-        if (candidate == 0) {
-          start_ = -start_;
-        } else {
-          start_ = shifted_mean_;
-        }
-        // Not into trial_: solve() uses it for its trial steps.
-        const double candidate_cost = solve(start_, time, candidate_);
-        if (candidate_cost < cost) {
-          cost = candidate_cost;
-          best_ = candidate_;
-        }
-      }
-    }
-    update_residual_scale(time);
-    if (size_ > options_.change_window + 2 && recent_misfit(best_, time)) {
-      restart_at_change(time);
-      start_ = best_;
-      solve(start_, time, best_);
-      changed_ = true;
-      ++changes_;
-    }
-    state_ = best_;
-    finish(time);
-  }
+  void fit(Index time);
 
   /// s², the misfit of the history's entries whose model errs, in units of their residuals'
   /// variance σz² + τ² (>= 1; ConstantVelocityOptions::misfit_window): the unit of the change
@@ -336,27 +164,7 @@ class ConstantVelocityEstimator {
   /// changes at the next fit().
   /// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError (i, model_variance);
   ///         state unchanged.
-  void relinearize(Index i, const QuadraticModel<N>& model, double model_variance) {
-    const Index d = dimension();
-    if (i < 0 || i >= size_) {
-      throw InvalidArgumentError(
-          "i", fmt::format("i: value is {}; rule: must lie in [0, {}) (the history)", i, size_));
-    }
-    require_dimension("model", model.dimension(), d);
-    require_finite("model.center", model.center);
-    require_finite("model.value", model.value);
-    require_finite("model.half_gradient", model.half_gradient);
-    require_finite("model.hessian", model.hessian);
-    require_finite("model_variance", model_variance);
-    require_non_negative("model_variance", model_variance);
-    const Index s = slot(i);
-    controls_.col(s) = applied_.col(s) - model.center;
-    values_(s) = model.value;
-    half_gradients_.col(s) = model.half_gradient;
-    clip_hessian(model.hessian, s);
-    weights_(s) = 1.0 / (measurement_variance_ + model_variance);
-    model_variances_(s) = model_variance;
-  }
+  void relinearize(Index i, const QuadraticModel<N>& model, double model_variance);
 
   static constexpr std::string_view json_format = "twincal.constant_velocity_estimator";
 
@@ -367,199 +175,12 @@ class ConstantVelocityEstimator {
   /// misfit scales with their ring. Not the workspaces of a fit (Gauss–Newton buffers, shifted
   /// prior, factorizations), which every fit rewrites before reading them, nor the weights
   /// 1/(σz² + τ²), recomputed from τ².
-  [[nodiscard]] nlohmann::json save() const {
-    using json_state::doubles_to_json;
-    using json_state::matrix_to_json;
-    using json_state::number_to_json;
-    const Index d = dimension();
-    nlohmann::json history = nlohmann::json::array();
-    nlohmann::json hessians = nlohmann::json::array();
-    for (Index i = 0; i < size_; ++i) {
-      const Index s = slot(i);
-      if (i == 0 || hessians_.middleCols(s * d, d) != hessians_.middleCols(slot(i - 1) * d, d)) {
-        hessians.push_back(matrix_to_json(hessians_.middleCols(s * d, d)));
-      }
-      history.push_back({{"time", times_[static_cast<std::size_t>(s)]},
-                         {"applied", doubles_to_json(applied_.col(s))},
-                         {"control", doubles_to_json(controls_.col(s))},
-                         {"value", number_to_json(values_(s))},
-                         {"half_gradient", doubles_to_json(half_gradients_.col(s))},
-                         {"hessian", hessians.size() - 1},
-                         {"quality", number_to_json(qualities_(s))},
-                         {"model_variance", number_to_json(model_variances_(s))}});
-    }
-    nlohmann::json snapshots = nlohmann::json::array();
-    const Index kept_snapshots = std::min<Index>(snapshots_, options_.change_lag + 1);
-    for (Index i = 0; i < kept_snapshots; ++i) {
-      snapshots.push_back(
-          {{"time", snapshot_times_[static_cast<std::size_t>(i)]},
-           {"state", doubles_to_json(snapshot_states_.col(i))},
-           {"covariance", matrix_to_json(snapshot_covariances_.middleCols(i * d, d))}});
-    }
-    return {{"format", json_format},
-            {"dimension", d},
-            {"max_history", options_.max_history},
-            {"head", head_},
-            {"history", std::move(history)},
-            {"hessians", std::move(hessians)},
-            {"last_hessian", size_ > 0 ? matrix_to_json(last_hessian_) : nlohmann::json(nullptr)},
-            {"snapshot_count", snapshots_},
-            {"snapshots", std::move(snapshots)},
-            {"prior_mean", doubles_to_json(prior_mean_)},
-            {"prior_covariance", matrix_to_json(prior_covariance_)},
-            {"prior_time", prior_time_},
-            {"state", doubles_to_json(state_)},
-            {"covariance", matrix_to_json(covariance_)},
-            {"fit_time", fit_time_},
-            {"fitted", fitted_},
-            {"changes", changes_},
-            {"changed", changed_},
-            {"significant", significant_},
-            {"misfit", model_misfit_.save()},
-            {"residual_scale", number_to_json(residual_scale_)}};
-  }
+  [[nodiscard]] nlohmann::json save() const;
 
   /// Restores a snapshot of save() into an estimator of the same box, σz² and options.
   /// @throws InvalidArgumentError, DimensionMismatchError, NonFiniteError naming the field
   ///         ("history[3].quality"); the estimator unchanged.
-  void restore(const nlohmann::json& saved) {
-    using json_state::field;
-    using json_state::read_bool;
-    using json_state::read_double_field;
-    using json_state::read_integer_field;
-    const Index d = dimension();
-    const Index s = 2 * d;
-    const Index capacity = options_.max_history;
-    const Index lags = options_.change_lag + 1;
-    json_state::require_header(saved, json_format, d);
-    require_dimension("max_history", read_integer_field(saved, "max_history"), capacity);
-    const Index head = read_integer_field(saved, "head", 0, capacity - 1);
-
-    // The history into copies of the ring buffers, each entry at its slot.
-    const nlohmann::json& hessians =
-        json_state::require_array(field(saved, "hessians"), "hessians");
-    const nlohmann::json& history = json_state::require_array(field(saved, "history"), "history");
-    const auto size = static_cast<Index>(history.size());
-    if (size > capacity) {
-      throw InvalidArgumentError(
-          "history",
-          fmt::format("history: has {} entries; rule: at most max_history, {}", size, capacity));
-    }
-    std::vector<Index> times = times_;
-    Matrix<N, Dynamic> controls = controls_;
-    Matrix<N, Dynamic> applied = applied_;
-    VectorX values = values_;
-    Matrix<N, Dynamic> half_gradients = half_gradients_;
-    Matrix<N, Dynamic> ring_hessians = hessians_;
-    VectorX qualities = qualities_;
-    VectorX weights = weights_;
-    VectorX model_variances = model_variances_;
-    OffsetVector column(d);
-    OffsetMatrix hessian(d, d);
-    for (Index i = 0; i < size; ++i) {
-      json_state::within(fmt::format("history[{}]", i), [&] {
-        const nlohmann::json& entry = history[static_cast<std::size_t>(i)];
-        const Index at = (head + i) % capacity;
-        const Index time = read_integer_field(entry, "time");
-        if (i > 0 && time < times[static_cast<std::size_t>((head + i - 1) % capacity)]) {
-          throw InvalidArgumentError(
-              "time", fmt::format("time: is {}; rule: must be >= the previous entry's", time));
-        }
-        times[static_cast<std::size_t>(at)] = time;
-        json_state::read_doubles(field(entry, "applied"), "applied", column);
-        applied.col(at) = column;
-        json_state::read_doubles(field(entry, "control"), "control", column);
-        controls.col(at) = column;
-        values(at) = read_double_field(entry, "value");
-        json_state::read_doubles(field(entry, "half_gradient"), "half_gradient", column);
-        half_gradients.col(at) = column;
-        const Index which =
-            read_integer_field(entry, "hessian", 0, static_cast<Index>(hessians.size()) - 1);
-        json_state::read_matrix(hessians[static_cast<std::size_t>(which)],
-                                fmt::format("hessians[{}]", which), hessian);
-        ring_hessians.middleCols(at * d, d) = hessian;
-        qualities(at) = read_double_field(entry, "quality");
-        const double model_variance = read_double_field(entry, "model_variance");
-        require_non_negative("model_variance", model_variance);
-        model_variances(at) = model_variance;
-        weights(at) = 1.0 / (measurement_variance_ + model_variance);  // as add() forms it
-      });
-    }
-    OffsetMatrix last_hessian = last_hessian_;
-    if (size > 0)
-      json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
-
-    // The snapshots of the last change_lag + 1 fits, at their slots.
-    const Index snapshot_count = read_integer_field(saved, "snapshot_count", 0);
-    const nlohmann::json& snapshots = json_state::require_array(
-        field(saved, "snapshots"), "snapshots", std::min(snapshot_count, lags));
-    std::vector<Index> snapshot_times = snapshot_times_;
-    Matrix<state_size, Dynamic> snapshot_states = snapshot_states_;
-    Matrix<N, Dynamic> snapshot_covariances = snapshot_covariances_;
-    StateVector state_column(s);
-    for (std::size_t i = 0; i < snapshots.size(); ++i) {
-      json_state::within(fmt::format("snapshots[{}]", i), [&] {
-        const auto at = static_cast<Index>(i);
-        snapshot_times[i] = read_integer_field(snapshots[i], "time");
-        json_state::read_doubles(field(snapshots[i], "state"), "state", state_column);
-        snapshot_states.col(at) = state_column;
-        json_state::read_matrix(field(snapshots[i], "covariance"), "covariance", hessian);
-        snapshot_covariances.middleCols(at * d, d) = hessian;
-      });
-    }
-
-    // The prior and the estimate.
-    StateVector prior_mean(s);
-    json_state::read_doubles(field(saved, "prior_mean"), "prior_mean", prior_mean);
-    StateMatrix prior_covariance(s, s);
-    json_state::read_matrix(field(saved, "prior_covariance"), "prior_covariance", prior_covariance);
-    const Index prior_time = read_integer_field(saved, "prior_time");
-    StateVector state(s);
-    json_state::read_doubles(field(saved, "state"), "state", state);
-    StateMatrix covariance(s, s);
-    json_state::read_matrix(field(saved, "covariance"), "covariance", covariance);
-    const Index fit_time = read_integer_field(saved, "fit_time");
-    const bool fitted = read_bool(saved, "fitted");
-    const Index changes = read_integer_field(saved, "changes", 0);
-    const bool changed = read_bool(saved, "changed");
-    const bool significant = read_bool(saved, "significant");
-    MedianMisfit misfit = model_misfit_;
-    const nlohmann::json& saved_misfit = field(saved, "misfit");
-    json_state::within("misfit", [&] { misfit.restore(saved_misfit); });
-    const double residual_scale = read_double_field(saved, "residual_scale");
-
-    // Nothing throws from here on.
-    times_.swap(times);
-    controls_.swap(controls);
-    applied_.swap(applied);
-    values_.swap(values);
-    half_gradients_.swap(half_gradients);
-    hessians_.swap(ring_hessians);
-    qualities_.swap(qualities);
-    weights_.swap(weights);
-    model_variances_.swap(model_variances);
-    head_ = head;
-    size_ = size;
-    last_hessian_ = last_hessian;
-    snapshot_times_.swap(snapshot_times);
-    snapshot_states_.swap(snapshot_states);
-    snapshot_covariances_.swap(snapshot_covariances);
-    snapshots_ = snapshot_count;
-    prior_mean_ = prior_mean;
-    prior_covariance_ = prior_covariance;
-    prior_time_ = prior_time;
-    state_ = state;
-    covariance_ = covariance;
-    position_ = state_.head(d);  // as finish() forms them
-    position_covariance_ = covariance_.topLeftCorner(d, d);
-    fit_time_ = fit_time;
-    fitted_ = fitted;
-    changes_ = changes;
-    changed_ = changed;
-    significant_ = significant;
-    model_misfit_ = std::move(misfit);
-    residual_scale_ = residual_scale;
-  }
+  void restore(const nlohmann::json& saved);
 
  private:
   // Stores `hessian`, its negative eigenvalues clipped at 0, in ring slot i.
@@ -911,5 +532,418 @@ class ConstantVelocityEstimator {
   StateVector prior_scale_;
   Eigen::SelfAdjointEigenSolver<StateMatrix> state_eigen_;
 };
+
+// The members that do the work are defined out of the class, so not inline: for the sizes
+// declared `extern template` at the end of this file, the files that include it do not
+// instantiate them (with their Gauss–Newton solve, factorizations and eigensolvers), but link
+// the instantiations compiled once in controllers' src/constant_velocity_estimator.cpp.
+
+template <int N>
+ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width,
+                                                        double measurement_variance,
+                                                        const ConstantVelocityOptions& options)
+    : options_((require_valid("ConstantVelocityOptions", options), options)),
+      measurement_variance_(measurement_variance),
+      width_(box_width),
+      factor_(2 * box_width.size()),
+      hessian_eigen_(box_width.size()),
+      state_eigen_(2 * box_width.size()) {
+  require_finite("box_width", width_);
+  if (!(width_.size() > 0) || !(width_.minCoeff() > 0.0)) {
+    throw InvalidArgumentError("box_width",
+                               "box_width: rule: must have entries, all > 0 (the control box)");
+  }
+  require_finite("measurement_variance", measurement_variance_);
+  require_positive("measurement_variance", measurement_variance_);
+  const Index d = width_.size();
+  if constexpr (N != Dynamic) require_dimension("box_width", d, N);
+  const Index s = 2 * d;
+  const Index capacity = options_.max_history;
+  times_.assign(static_cast<std::size_t>(capacity), 0);
+  controls_.resize(d, capacity);
+  applied_.resize(d, capacity);
+  values_.resize(capacity);
+  half_gradients_.resize(d, capacity);
+  hessians_.resize(d, d * capacity);
+  qualities_.resize(capacity);
+  weights_.resize(capacity);
+  model_variances_.resize(capacity);
+  const Index lags = options_.change_lag + 1;
+  snapshot_times_.assign(static_cast<std::size_t>(lags), 0);
+  snapshot_states_.resize(s, lags);
+  snapshot_covariances_.resize(d, d * lags);
+  prior_mean_.resize(s);
+  prior_covariance_.resize(s, s);
+  state_.setZero(s);
+  covariance_.setIdentity(s, s);
+  shift_.setIdentity(s, s);
+  shifted_mean_.resize(s);
+  shifted_covariance_.resize(s, s);
+  prior_precision_.resize(s, s);
+  identity_ = StateMatrix::Identity(s, s);
+  trial_.resize(s);
+  candidate_.resize(s);
+  best_.resize(s);
+  start_.resize(s);
+  step_.resize(s);
+  gradient_.resize(s);
+  difference_.resize(s);
+  weighted_difference_.resize(s);
+  normal_.resize(s, s);
+  jacobian_.resize(capacity, s);
+  residuals_.resize(capacity);
+  error_.resize(d);
+  curvature_error_.resize(d);
+  slope_.resize(d);
+  velocity_.resize(d);
+  position_.resize(d);
+  position_covariance_.resize(d, d);
+  prior_scale_.resize(s);
+  last_hessian_.resize(d, d);
+  model_misfit_.resize(options_.misfit_window);
+  residual_workspace_.assign(static_cast<std::size_t>(options_.misfit_window), 0.0);
+}
+
+template <int N>
+void ConstantVelocityEstimator<N>::reset(Index time, const OffsetVector& position,
+                                         const OffsetMatrix& position_covariance) {
+  const Index d = dimension();
+  require_dimension("position", position.size(), d);
+  require_finite("position", position);
+  require_shape("position_covariance", position_covariance, d, d);
+  require_positive_definite("position_covariance", position_covariance);
+  prior_mean_.head(d) = position;
+  prior_mean_.tail(d).setZero();
+  prior_covariance_.setZero();
+  prior_covariance_.topLeftCorner(d, d) = position_covariance;
+  prior_covariance_.diagonal().tail(d) =
+      (options_.velocity_fraction * width_).array().square().matrix();
+  prior_time_ = time;
+  size_ = 0;
+  head_ = 0;
+  snapshots_ = 0;
+  model_misfit_.clear();
+  residual_scale_ = 1.0;
+  changes_ = 0;
+  changed_ = false;
+  fitted_ = false;
+  fit(time);
+}
+
+template <int N>
+double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& model,
+                                         const OffsetVector& control, double z,
+                                         double model_variance) {
+  const Index d = dimension();
+  require_dimension("control", control.size(), d);
+  require_dimension("model", model.dimension(), d);
+  require_finite("control", control);
+  require_finite("z", z);
+  require_finite("model_variance", model_variance);
+  require_non_negative("model_variance", model_variance);
+  if (size_ > 0 && time < time_of(size_ - 1)) {
+    throw InvalidArgumentError(
+        "time", fmt::format("time: value is {}; rule: must be >= the last time in the history, "
+                            "{}",
+                            time, time_of(size_ - 1)));
+  }
+  if (!fitted_ || fit_time_ != time) fit(time);
+
+  if (size_ == options_.max_history) {  // the oldest assembly leaves the ring
+    head_ = (head_ + 1) % options_.max_history;
+    --size_;
+  }
+  const Index i = slot(size_);
+  times_[static_cast<std::size_t>(i)] = time;
+  controls_.col(i) = control - model.center;
+  applied_.col(i) = control;
+  values_(i) = model.value;
+  half_gradients_.col(i) = model.half_gradient;
+  // H as fitted may have tiny negative eigenvalues (finite differences along directions the
+  // quality ignores); along them the fit would run away, so they are clipped at 0. The
+  // surrogate keeps H for many assemblies: an unchanged H reuses the previous entry's.
+  if (size_ > 0 && model.hessian == last_hessian_) {
+    hessians_.middleCols(i * d, d) = hessians_.middleCols(slot(size_ - 1) * d, d);
+  } else {
+    last_hessian_ = model.hessian;
+    clip_hessian(last_hessian_, i);
+  }
+  qualities_(i) = z;
+  weights_(i) = 1.0 / (measurement_variance_ + model_variance);
+  model_variances_(i) = model_variance;
+  ++size_;
+
+  // The innovation of z against the prediction at `time` (a = position_, τ = 0).
+  const double residual = residual_at(size_ - 1, state_, time);
+  curvature_error_.noalias() = position_covariance_ * slope_;
+  const double variance = 1.0 / weights_(slot(size_ - 1)) + slope_.dot(curvature_error_);
+  const double normalized = residual * residual / variance;
+  // The gate's scale counts only entries whose model errs (τ² > 0): an exact model's misfit is
+  // the estimate's own error or a change of velocity, which is what the gate is there to see
+  // (measured: with every entry, a quadratic twin at d = 32 ran a residual of 0.18 instead of
+  // 0.14).
+  if (options_.misfit_window > 0 && model_variance > 0.0) model_misfit_.add(normalized);
+  return normalized;
+}
+
+template <int N>
+void ConstantVelocityEstimator<N>::fit(Index time) {
+  const Index d = dimension();
+  changed_ = false;
+  shift_prior(time);
+  // Warm start: the last estimate moved to `time` with its velocity.
+  if (fitted_) {
+    start_ = state_;
+    start_.head(d) += static_cast<double>(time - fit_time_) * state_.tail(d);
+  } else {
+    start_ = shifted_mean_;
+  }
+  double cost = solve(start_, time, best_);
+  if (data_cost_ > static_cast<double>(size_) * options_.change_gate * options_.change_gate) {
+    // The warm start explains the data badly: also try its mirror image and the prior mean.
+    for (int candidate = 0; candidate < 2; ++candidate) {
+      if (candidate == 0) {
+        start_ = -start_;
+      } else {
+        start_ = shifted_mean_;
+      }
+      // Not into trial_: solve() uses it for its trial steps.
+      const double candidate_cost = solve(start_, time, candidate_);
+      if (candidate_cost < cost) {
+        cost = candidate_cost;
+        best_ = candidate_;
+      }
+    }
+  }
+  update_residual_scale(time);
+  if (size_ > options_.change_window + 2 && recent_misfit(best_, time)) {
+    restart_at_change(time);
+    start_ = best_;
+    solve(start_, time, best_);
+    changed_ = true;
+    ++changes_;
+  }
+  state_ = best_;
+  finish(time);
+}
+
+template <int N>
+void ConstantVelocityEstimator<N>::relinearize(Index i, const QuadraticModel<N>& model,
+                                               double model_variance) {
+  const Index d = dimension();
+  if (i < 0 || i >= size_) {
+    throw InvalidArgumentError(
+        "i", fmt::format("i: value is {}; rule: must lie in [0, {}) (the history)", i, size_));
+  }
+  require_dimension("model", model.dimension(), d);
+  require_finite("model.center", model.center);
+  require_finite("model.value", model.value);
+  require_finite("model.half_gradient", model.half_gradient);
+  require_finite("model.hessian", model.hessian);
+  require_finite("model_variance", model_variance);
+  require_non_negative("model_variance", model_variance);
+  const Index s = slot(i);
+  controls_.col(s) = applied_.col(s) - model.center;
+  values_(s) = model.value;
+  half_gradients_.col(s) = model.half_gradient;
+  clip_hessian(model.hessian, s);
+  weights_(s) = 1.0 / (measurement_variance_ + model_variance);
+  model_variances_(s) = model_variance;
+}
+
+template <int N>
+nlohmann::json ConstantVelocityEstimator<N>::save() const {
+  using json_state::doubles_to_json;
+  using json_state::matrix_to_json;
+  using json_state::number_to_json;
+  const Index d = dimension();
+  nlohmann::json history = nlohmann::json::array();
+  nlohmann::json hessians = nlohmann::json::array();
+  for (Index i = 0; i < size_; ++i) {
+    const Index s = slot(i);
+    if (i == 0 || hessians_.middleCols(s * d, d) != hessians_.middleCols(slot(i - 1) * d, d)) {
+      hessians.push_back(matrix_to_json(hessians_.middleCols(s * d, d)));
+    }
+    history.push_back({{"time", times_[static_cast<std::size_t>(s)]},
+                       {"applied", doubles_to_json(applied_.col(s))},
+                       {"control", doubles_to_json(controls_.col(s))},
+                       {"value", number_to_json(values_(s))},
+                       {"half_gradient", doubles_to_json(half_gradients_.col(s))},
+                       {"hessian", hessians.size() - 1},
+                       {"quality", number_to_json(qualities_(s))},
+                       {"model_variance", number_to_json(model_variances_(s))}});
+  }
+  nlohmann::json snapshots = nlohmann::json::array();
+  const Index kept_snapshots = std::min<Index>(snapshots_, options_.change_lag + 1);
+  for (Index i = 0; i < kept_snapshots; ++i) {
+    snapshots.push_back(
+        {{"time", snapshot_times_[static_cast<std::size_t>(i)]},
+         {"state", doubles_to_json(snapshot_states_.col(i))},
+         {"covariance", matrix_to_json(snapshot_covariances_.middleCols(i * d, d))}});
+  }
+  return {{"format", json_format},
+          {"dimension", d},
+          {"max_history", options_.max_history},
+          {"head", head_},
+          {"history", std::move(history)},
+          {"hessians", std::move(hessians)},
+          {"last_hessian", size_ > 0 ? matrix_to_json(last_hessian_) : nlohmann::json(nullptr)},
+          {"snapshot_count", snapshots_},
+          {"snapshots", std::move(snapshots)},
+          {"prior_mean", doubles_to_json(prior_mean_)},
+          {"prior_covariance", matrix_to_json(prior_covariance_)},
+          {"prior_time", prior_time_},
+          {"state", doubles_to_json(state_)},
+          {"covariance", matrix_to_json(covariance_)},
+          {"fit_time", fit_time_},
+          {"fitted", fitted_},
+          {"changes", changes_},
+          {"changed", changed_},
+          {"significant", significant_},
+          {"misfit", model_misfit_.save()},
+          {"residual_scale", number_to_json(residual_scale_)}};
+}
+
+template <int N>
+void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
+  using json_state::field;
+  using json_state::read_bool;
+  using json_state::read_double_field;
+  using json_state::read_integer_field;
+  const Index d = dimension();
+  const Index s = 2 * d;
+  const Index capacity = options_.max_history;
+  const Index lags = options_.change_lag + 1;
+  json_state::require_header(saved, json_format, d);
+  require_dimension("max_history", read_integer_field(saved, "max_history"), capacity);
+  const Index head = read_integer_field(saved, "head", 0, capacity - 1);
+
+  // The history into copies of the ring buffers, each entry at its slot.
+  const nlohmann::json& hessians = json_state::require_array(field(saved, "hessians"), "hessians");
+  const nlohmann::json& history = json_state::require_array(field(saved, "history"), "history");
+  const auto size = static_cast<Index>(history.size());
+  if (size > capacity) {
+    throw InvalidArgumentError(
+        "history",
+        fmt::format("history: has {} entries; rule: at most max_history, {}", size, capacity));
+  }
+  std::vector<Index> times = times_;
+  Matrix<N, Dynamic> controls = controls_;
+  Matrix<N, Dynamic> applied = applied_;
+  VectorX values = values_;
+  Matrix<N, Dynamic> half_gradients = half_gradients_;
+  Matrix<N, Dynamic> ring_hessians = hessians_;
+  VectorX qualities = qualities_;
+  VectorX weights = weights_;
+  VectorX model_variances = model_variances_;
+  OffsetVector column(d);
+  OffsetMatrix hessian(d, d);
+  for (Index i = 0; i < size; ++i) {
+    json_state::within(fmt::format("history[{}]", i), [&] {
+      const nlohmann::json& entry = history[static_cast<std::size_t>(i)];
+      const Index at = (head + i) % capacity;
+      const Index time = read_integer_field(entry, "time");
+      if (i > 0 && time < times[static_cast<std::size_t>((head + i - 1) % capacity)]) {
+        throw InvalidArgumentError(
+            "time", fmt::format("time: is {}; rule: must be >= the previous entry's", time));
+      }
+      times[static_cast<std::size_t>(at)] = time;
+      json_state::read_doubles(field(entry, "applied"), "applied", column);
+      applied.col(at) = column;
+      json_state::read_doubles(field(entry, "control"), "control", column);
+      controls.col(at) = column;
+      values(at) = read_double_field(entry, "value");
+      json_state::read_doubles(field(entry, "half_gradient"), "half_gradient", column);
+      half_gradients.col(at) = column;
+      const Index which =
+          read_integer_field(entry, "hessian", 0, static_cast<Index>(hessians.size()) - 1);
+      json_state::read_matrix(hessians[static_cast<std::size_t>(which)],
+                              fmt::format("hessians[{}]", which), hessian);
+      ring_hessians.middleCols(at * d, d) = hessian;
+      qualities(at) = read_double_field(entry, "quality");
+      const double model_variance = read_double_field(entry, "model_variance");
+      require_non_negative("model_variance", model_variance);
+      model_variances(at) = model_variance;
+      weights(at) = 1.0 / (measurement_variance_ + model_variance);  // as add() forms it
+    });
+  }
+  OffsetMatrix last_hessian = last_hessian_;
+  if (size > 0) json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
+
+  // The snapshots of the last change_lag + 1 fits, at their slots.
+  const Index snapshot_count = read_integer_field(saved, "snapshot_count", 0);
+  const nlohmann::json& snapshots = json_state::require_array(
+      field(saved, "snapshots"), "snapshots", std::min(snapshot_count, lags));
+  std::vector<Index> snapshot_times = snapshot_times_;
+  Matrix<state_size, Dynamic> snapshot_states = snapshot_states_;
+  Matrix<N, Dynamic> snapshot_covariances = snapshot_covariances_;
+  StateVector state_column(s);
+  for (std::size_t i = 0; i < snapshots.size(); ++i) {
+    json_state::within(fmt::format("snapshots[{}]", i), [&] {
+      const auto at = static_cast<Index>(i);
+      snapshot_times[i] = read_integer_field(snapshots[i], "time");
+      json_state::read_doubles(field(snapshots[i], "state"), "state", state_column);
+      snapshot_states.col(at) = state_column;
+      json_state::read_matrix(field(snapshots[i], "covariance"), "covariance", hessian);
+      snapshot_covariances.middleCols(at * d, d) = hessian;
+    });
+  }
+
+  // The prior and the estimate.
+  StateVector prior_mean(s);
+  json_state::read_doubles(field(saved, "prior_mean"), "prior_mean", prior_mean);
+  StateMatrix prior_covariance(s, s);
+  json_state::read_matrix(field(saved, "prior_covariance"), "prior_covariance", prior_covariance);
+  const Index prior_time = read_integer_field(saved, "prior_time");
+  StateVector state(s);
+  json_state::read_doubles(field(saved, "state"), "state", state);
+  StateMatrix covariance(s, s);
+  json_state::read_matrix(field(saved, "covariance"), "covariance", covariance);
+  const Index fit_time = read_integer_field(saved, "fit_time");
+  const bool fitted = read_bool(saved, "fitted");
+  const Index changes = read_integer_field(saved, "changes", 0);
+  const bool changed = read_bool(saved, "changed");
+  const bool significant = read_bool(saved, "significant");
+  MedianMisfit misfit = model_misfit_;
+  const nlohmann::json& saved_misfit = field(saved, "misfit");
+  json_state::within("misfit", [&] { misfit.restore(saved_misfit); });
+  const double residual_scale = read_double_field(saved, "residual_scale");
+
+  // Nothing throws from here on.
+  times_.swap(times);
+  controls_.swap(controls);
+  applied_.swap(applied);
+  values_.swap(values);
+  half_gradients_.swap(half_gradients);
+  hessians_.swap(ring_hessians);
+  qualities_.swap(qualities);
+  weights_.swap(weights);
+  model_variances_.swap(model_variances);
+  head_ = head;
+  size_ = size;
+  last_hessian_ = last_hessian;
+  snapshot_times_.swap(snapshot_times);
+  snapshot_states_.swap(snapshot_states);
+  snapshot_covariances_.swap(snapshot_covariances);
+  snapshots_ = snapshot_count;
+  prior_mean_ = prior_mean;
+  prior_covariance_ = prior_covariance;
+  prior_time_ = prior_time;
+  state_ = state;
+  covariance_ = covariance;
+  position_ = state_.head(d);  // as finish() forms them
+  position_covariance_ = covariance_.topLeftCorner(d, d);
+  fit_time_ = fit_time;
+  fitted_ = fitted;
+  changes_ = changes;
+  changed_ = changed;
+  significant_ = significant;
+  model_misfit_ = std::move(misfit);
+  residual_scale_ = residual_scale;
+}
+
+// The run-time size: the ActiveController of the experiments, the CLI, the Python module, the
+// tests, the benchmarks and the examples.
+extern template class ConstantVelocityEstimator<Dynamic>;
 
 }  // namespace twincal

@@ -158,13 +158,36 @@ void require_symmetric(std::string_view name, const Eigen::MatrixBase<Derived>& 
                   name, asymmetry, tolerance));
 }
 
-/// Smallest and largest eigenvalue of the symmetric part (m + mᵀ)/2.
+namespace detail {
+
+/// Smallest and largest eigenvalue of a symmetric N × N matrix, by Eigen's self-adjoint solver.
+/// Every check of positive definiteness calls it, and the solver's instantiation costs seconds
+/// of compile time per file and size, so the sizes that many files check are compiled once, in
+/// core's src/validate.cpp (the declarations below): the run-time size, 1 to 3 locators, and 6
+/// (the constant-velocity state of 3).
+template <int N>
+[[nodiscard]] std::pair<double, double> symmetric_eigenvalue_range(
+    const SquareMatrix<N>& symmetric) {
+  const Eigen::SelfAdjointEigenSolver<SquareMatrix<N>> solver(symmetric, Eigen::EigenvaluesOnly);
+  return {solver.eigenvalues().minCoeff(), solver.eigenvalues().maxCoeff()};
+}
+
+extern template std::pair<double, double> symmetric_eigenvalue_range<Dynamic>(const MatrixX&);
+extern template std::pair<double, double> symmetric_eigenvalue_range<1>(const SquareMatrix<1>&);
+extern template std::pair<double, double> symmetric_eigenvalue_range<2>(const SquareMatrix<2>&);
+extern template std::pair<double, double> symmetric_eigenvalue_range<3>(const SquareMatrix<3>&);
+extern template std::pair<double, double> symmetric_eigenvalue_range<6>(const SquareMatrix<6>&);
+
+}  // namespace detail
+
+/// Smallest and largest eigenvalue of the symmetric part (m + mᵀ)/2. Allocates nothing when
+/// `m`'s size is fixed at compile time.
 template <typename Derived>
 [[nodiscard]] std::pair<double, double> eigenvalue_range(const Eigen::MatrixBase<Derived>& m) {
-  using Plain = typename Derived::PlainObject;
-  const Plain symmetric = 0.5 * (m + m.transpose());
-  const Eigen::SelfAdjointEigenSolver<Plain> solver(symmetric, Eigen::EigenvaluesOnly);
-  return {solver.eigenvalues().minCoeff(), solver.eigenvalues().maxCoeff()};
+  constexpr int n = Derived::RowsAtCompileTime != Dynamic ? Derived::RowsAtCompileTime
+                                                          : Derived::ColsAtCompileTime;
+  const SquareMatrix<n> symmetric = 0.5 * (m + m.transpose());
+  return detail::symmetric_eigenvalue_range<n>(symmetric);
 }
 
 /// Smallest eigenvalue of the symmetric part (m + mᵀ)/2.

@@ -1,0 +1,8 @@
+// The estimator's instantiations that constant_velocity_estimator.hpp declares `extern`.
+#include "twincal/controllers/constant_velocity_estimator.hpp"
+
+namespace twincal {
+
+template class ConstantVelocityEstimator<Dynamic>;
+
+}  // namespace twincal
