@@ -160,26 +160,16 @@ template <typename Source, typename Target>
 /// nothing, beyond that size.
 [[nodiscard]] std::optional<bool> fixed_size_factor_lower(const MatrixX& matrix, MatrixX& lower);
 
-}  // namespace detail
-
-/// Factors the symmetric matrix whose lower triangle is `m` as L Lᵀ, repairing it per
-/// `options` when needed. No allocation for fixed sizes when no repair is needed.
-/// @throws DimensionMismatchError (not square), NonFiniteError, InvalidArgumentError (options),
-///         NotPositiveDefiniteError (not PD and the policy could not or may not repair it).
-template <typename Derived>
-[[nodiscard]] CholeskyResult<Derived::RowsAtCompileTime> cholesky(
-    const Eigen::MatrixBase<Derived>& m, const CholeskyOptions& options = {},
-    std::string_view name = "matrix") {
-  constexpr int N = Derived::RowsAtCompileTime;
+/// The rare half of cholesky(): `input` (symmetric) has no Cholesky factor; repairs it per
+/// `options` or throws. With its eigensolver it costs seconds of compile time per file and
+/// size, so the sizes that many files factor are compiled once, in core's src/cholesky.cpp (the
+/// declarations below): the run-time size, 1 to 3, and 6.
+template <int N>
+[[nodiscard]] CholeskyResult<N> repaired_cholesky(const SquareMatrix<N>& input,
+                                                  const CholeskyOptions& options,
+                                                  std::string_view name) {
   using Square = SquareMatrix<N>;
-  require_valid("CholeskyOptions", options);
-  require_square(name, m);
-  require_finite(name, m);
-
-  const Square input = m.template selfadjointView<Eigen::Lower>();
   Square lower(input.rows(), input.cols());
-  if (detail::try_llt<N>(input, lower)) return {CholeskyFactor<N>(lower), CholeskyReport{}};
-
   const Eigen::SelfAdjointEigenSolver<Square> eigen(input);
   CholeskyReport report;
   report.smallest_eigenvalue = eigen.eigenvalues().minCoeff();
@@ -232,6 +222,40 @@ template <typename Derived>
     }
   }
   detail::throw_not_pd(name, report.smallest_eigenvalue, " (unknown repair policy)");
+}
+
+extern template CholeskyResult<Dynamic> repaired_cholesky<Dynamic>(const MatrixX&,
+                                                                   const CholeskyOptions&,
+                                                                   std::string_view);
+extern template CholeskyResult<1> repaired_cholesky<1>(const SquareMatrix<1>&,
+                                                       const CholeskyOptions&, std::string_view);
+extern template CholeskyResult<2> repaired_cholesky<2>(const SquareMatrix<2>&,
+                                                       const CholeskyOptions&, std::string_view);
+extern template CholeskyResult<3> repaired_cholesky<3>(const SquareMatrix<3>&,
+                                                       const CholeskyOptions&, std::string_view);
+extern template CholeskyResult<6> repaired_cholesky<6>(const SquareMatrix<6>&,
+                                                       const CholeskyOptions&, std::string_view);
+
+}  // namespace detail
+
+/// Factors the symmetric matrix whose lower triangle is `m` as L Lᵀ, repairing it per
+/// `options` when needed. No allocation for fixed sizes when no repair is needed.
+/// @throws DimensionMismatchError (not square), NonFiniteError, InvalidArgumentError (options),
+///         NotPositiveDefiniteError (not PD and the policy could not or may not repair it).
+template <typename Derived>
+[[nodiscard]] CholeskyResult<Derived::RowsAtCompileTime> cholesky(
+    const Eigen::MatrixBase<Derived>& m, const CholeskyOptions& options = {},
+    std::string_view name = "matrix") {
+  constexpr int N = Derived::RowsAtCompileTime;
+  using Square = SquareMatrix<N>;
+  require_valid("CholeskyOptions", options);
+  require_square(name, m);
+  require_finite(name, m);
+
+  const Square input = m.template selfadjointView<Eigen::Lower>();
+  Square lower(input.rows(), input.cols());
+  if (detail::try_llt<N>(input, lower)) return {CholeskyFactor<N>(lower), CholeskyReport{}};
+  return detail::repaired_cholesky<N>(input, options, name);
 }
 
 namespace detail {

@@ -33,7 +33,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
-#include <Eigen/QR>
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/cholesky.hpp"
@@ -41,6 +40,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
+#include "twincal/core/qr.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/filters/filter_state_json.hpp"
 #include "twincal/filters/measurement_model.hpp"

@@ -15,10 +15,10 @@
 
 #include <fmt/format.h>
 #include <Eigen/Core>
-#include <Eigen/QR>
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
+#include "twincal/core/qr.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/core/validate.hpp"
 #include "twincal/models/analytic_assembly_set.hpp"
