@@ -283,10 +283,10 @@ TEST(ActiveController, RefusesABadSnapshotAndKeepsItsState) {
   // The estimator is restored after the probe: the probe goes back when the estimator's part
   // is refused.
   nlohmann::json bad = good;
-  bad["estimator"].erase("residual_scale");
+  bad["estimator"].erase("prediction_misfit");
   EXPECT_THAT([&] { tried.restore(bad); },
               ::testing::ThrowsMessage<InvalidArgumentError>(
-                  ::testing::HasSubstr("estimator.residual_scale: field is missing")));
+                  ::testing::HasSubstr("estimator.prediction_misfit: field is missing")));
   EXPECT_EQ(tried.save().dump(), state);
   bad = good;
   bad["estimator"]["history"][3]["quality"] = nullptr;  // NaN

@@ -75,17 +75,21 @@ struct ActiveOptions {
   /// Do no harm, measured: where the model failed its check, every audit_period-th corrected
   /// assembly is left uncorrected (or the reverse while the correction is off; a correction that
   /// halves the regret is audited four times less often), and the correction stays on only while
-  /// the last audit_window corrected assemblies' mean relative regret (z − z*)/z* is no larger
-  /// than the uncorrected ones' (0: no audit). The estimate cannot vouch for itself where its
+  /// its mean relative regret (z − z*)/z* is no larger than doing without's, over the last
+  /// audit_window pairs of consecutive audited assemblies, one of each arm (0: no audit). Pairs
+  /// compare the arms at one time, where the drift has moved little; until 3 pairs are in, the
+  /// arms' last audit_window regrets stand in. The estimate cannot vouch for itself where its
   /// models err; only the plant's answers can. Costs about 1/audit_period of the baseline's
   /// regret where the correction is right.
   Index audit_period = 10;
   Index audit_window = 10;
-  /// A twin whose model passes its check is audited too once the fit misfits its own history by
-  /// this much (ConstantVelocityEstimator::residual_scale(): the median normalized residual over
-  /// χ²(1)'s; 4: residuals twice what σz² explains): a plant that is not the twin. Measured on
-  /// quadratic twins behind plants with kinks or cubic stiffening (d = 3, seed 2023): 1.39 and
-  /// 4.8 × the baseline without, 1.34 and 1.02 × with.
+  /// A twin whose model passes its check is audited too once the estimator predicts the plant
+  /// this badly (ConstantVelocityEstimator::prediction_scale(): the median normalized
+  /// innovation over χ²(1)'s; 4: innovations twice what their variance explains): a plant that
+  /// is not the twin. Measured on the quadratic key-point twin behind plants with kinks and
+  /// contact (seed 2023, 10 runs): kinks 1.39 / 1.50 × the baseline at d = 3 / 12 before
+  /// 2026-11-27 (the fit's own residual scale, which cannot speak at d ≥ 12), 1.15 / 1.29 × now
+  /// (docs/reproduction.md, "Twin ≠ plant").
   double audit_misfit = 4.0;
 
   [[nodiscard]] std::optional<std::string> validate() const {

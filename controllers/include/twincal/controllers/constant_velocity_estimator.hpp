@@ -43,6 +43,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -128,12 +129,14 @@ class ConstantVelocityEstimator {
   /// variance σz² + τ² (>= 1; ConstantVelocityOptions::misfit_window): the unit of the change
   /// gate and the significance test.
   [[nodiscard]] double misfit_scale() const noexcept { return model_misfit_.scale(); }
-  /// How badly the fit explains its own history, exact models included: the median normalized
-  /// residual e_k²/σ_k² under the last fit of the misfit_window entries before the last
-  /// change_window, over χ²(1)'s median, at least 1; kept from an earlier fit while fewer than
-  /// 2d + 3 such entries are in (the 2d unknowns fit fewer too closely to say). Unlike the
-  /// innovations it carries no error of the estimate: a plant that is not the twin shows here.
-  [[nodiscard]] double residual_scale() const noexcept { return residual_scale_; }
+  /// How badly the estimator predicts the plant: the median normalized innovation ν²/S of the
+  /// last misfit_window assemblies, every entry (S = σz² + τ² + the estimate's variance along
+  /// the model's slope), over χ²(1)'s median, at least 1; 1 until half the window is in. Unlike
+  /// misfit_scale() it counts exact models too, so a plant that is not the twin shows here.
+  /// Each innovation is predicted before its entry joins the fit, so, unlike the fit's own
+  /// residuals (which 2d unknowns absorb until the history holds well over 2d entries), it
+  /// speaks at any d.
+  [[nodiscard]] double prediction_scale() const noexcept { return prediction_misfit_.scale(); }
 
   /// The time of history entry i (0 the oldest).
   [[nodiscard]] Index entry_time(Index i) const noexcept { return time_of(i); }
@@ -339,23 +342,6 @@ class ConstantVelocityEstimator {
     return mean > options_.change_gate * options_.change_gate * model_misfit_.scale();
   }
 
-  // residual_scale() at best_.
-  void update_residual_scale(Index time) {
-    if (options_.misfit_window <= 0) return;
-    const Index older = size_ - options_.change_window;
-    const Index first = std::max<Index>(0, older - options_.misfit_window);
-    const Index count = older - first;
-    if (count < 2 * dimension() + 3) return;
-    for (Index i = first; i < older; ++i) {
-      const double e = residual_at(i, best_, time);
-      residual_workspace_[static_cast<std::size_t>(i - first)] = weights_(slot(i)) * e * e;
-    }
-    const auto begin = residual_workspace_.begin();
-    const auto middle = begin + static_cast<std::ptrdiff_t>(count / 2);
-    std::nth_element(begin, middle, begin + static_cast<std::ptrdiff_t>(count));
-    residual_scale_ = std::max(1.0, *middle / chi2_median);
-  }
-
   // A change of velocity: the prior becomes the estimate of change_lag fits ago, widened along
   // its velocity's line, and the history keeps the assemblies measured since.
   void restart_at_change(Index time) {
@@ -503,8 +489,7 @@ class ConstantVelocityEstimator {
   };
   static constexpr double chi2_median = 0.4549;  // of χ²(1)
   MedianMisfit model_misfit_;                    // entries whose model errs: misfit_scale()
-  double residual_scale_ = 1.0;
-  std::vector<double> residual_workspace_;
+  MedianMisfit prediction_misfit_;               // every entry: prediction_scale()
   // Workspaces, sized once.
   StateMatrix shift_;
   StateVector shifted_mean_;
@@ -524,6 +509,7 @@ class ConstantVelocityEstimator {
   VectorX residuals_;
   OffsetVector error_;
   OffsetVector curvature_error_;
+  OffsetMatrix hessian_covariance_;
   OffsetVector slope_;
   OffsetVector velocity_;
   Eigen::LDLT<StateMatrix> factor_;
@@ -594,6 +580,7 @@ ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width
   residuals_.resize(capacity);
   error_.resize(d);
   curvature_error_.resize(d);
+  hessian_covariance_.resize(d, d);
   slope_.resize(d);
   velocity_.resize(d);
   position_.resize(d);
@@ -601,7 +588,7 @@ ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width
   prior_scale_.resize(s);
   last_hessian_.resize(d, d);
   model_misfit_.resize(options_.misfit_window);
-  residual_workspace_.assign(static_cast<std::size_t>(options_.misfit_window), 0.0);
+  prediction_misfit_.resize(options_.misfit_window);
 }
 
 template <int N>
@@ -623,7 +610,7 @@ void ConstantVelocityEstimator<N>::reset(Index time, const OffsetVector& positio
   head_ = 0;
   snapshots_ = 0;
   model_misfit_.clear();
-  residual_scale_ = 1.0;
+  prediction_misfit_.clear();
   changes_ = 0;
   changed_ = false;
   fitted_ = false;
@@ -683,6 +670,20 @@ double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& mo
   // (measured: with every entry, a quadratic twin at d = 32 ran a residual of 0.18 instead of
   // 0.14).
   if (options_.misfit_window > 0 && model_variance > 0.0) model_misfit_.add(normalized);
+  if (options_.misfit_window > 0) {
+    // prediction_scale() takes the innovation's variance to second order: near the optimum the
+    // slope vanishes, and Q² still varies with the estimate's error e ~ N(0, P) through eᵀHe,
+    // which adds 2 tr((HP)²) to the variance of Q² and tr((HP)²) / (2 m²) to that of z = m.
+    // Without it a plant that is the twin passes audit_misfit at d ≥ 12 (its estimate errs
+    // along directions the first-order slope does not see).
+    const double predicted = std::max(z - residual, std::numeric_limits<double>::min());
+    hessian_covariance_.noalias() =
+        hessians_.middleCols(slot(size_ - 1) * d, d) * position_covariance_;
+    const double second_order =
+        hessian_covariance_.cwiseProduct(hessian_covariance_.transpose()).sum() /
+        (2.0 * predicted * predicted);
+    prediction_misfit_.add(residual * residual / (variance + second_order));
+  }
   return normalized;
 }
 
@@ -715,7 +716,6 @@ void ConstantVelocityEstimator<N>::fit(Index time) {
       }
     }
   }
-  update_residual_scale(time);
   if (size_ > options_.change_window + 2 && recent_misfit(best_, time)) {
     restart_at_change(time);
     start_ = best_;
@@ -801,7 +801,7 @@ nlohmann::json ConstantVelocityEstimator<N>::save() const {
           {"changed", changed_},
           {"significant", significant_},
           {"misfit", model_misfit_.save()},
-          {"residual_scale", number_to_json(residual_scale_)}};
+          {"prediction_misfit", prediction_misfit_.save()}};
 }
 
 template <int N>
@@ -907,7 +907,9 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   MedianMisfit misfit = model_misfit_;
   const nlohmann::json& saved_misfit = field(saved, "misfit");
   json_state::within("misfit", [&] { misfit.restore(saved_misfit); });
-  const double residual_scale = read_double_field(saved, "residual_scale");
+  MedianMisfit prediction_misfit = prediction_misfit_;
+  const nlohmann::json& saved_prediction = field(saved, "prediction_misfit");
+  json_state::within("prediction_misfit", [&] { prediction_misfit.restore(saved_prediction); });
 
   // Nothing throws from here on.
   times_.swap(times);
@@ -939,7 +941,7 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   changed_ = changed;
   significant_ = significant;
   model_misfit_ = std::move(misfit);
-  residual_scale_ = residual_scale;
+  prediction_misfit_ = std::move(prediction_misfit);
 }
 
 // The run-time size: the ActiveController of the experiments, the CLI, the Python module, the
