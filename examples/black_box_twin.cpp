@@ -7,7 +7,6 @@
 // estimate further from δu* than no estimate, over the second half).
 //
 //   black_box_twin [runs] [dimension] [strength] [seed]
-#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
@@ -15,9 +14,9 @@
 
 #include <fmt/format.h>
 
-#include "twincal/controllers/active_controller.hpp"
+#include "black_box_episode.hpp"
+#include "twincal/controllers/presets.hpp"
 #include "twincal/controllers/searched_optimum_twin.hpp"
-#include "twincal/models/bouncing_drift.hpp"
 #include "twincal/models/contact_nonlinearity.hpp"
 #include "twincal/models/key_point_twin.hpp"
 #include "twincal/models/kink_nonlinearity.hpp"
@@ -26,52 +25,33 @@
 namespace {
 
 using namespace twincal;
+using examples::median;
 
 struct Outcome {
   double relative_residual = 0.0;
   bool lost = false;
 };
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 // One episode; `options` unset runs no calibration (u0 − δu* reaches the plant).
 template <typename T>
 Outcome run_episode(const T& twin, const RandomStream& run,
                     const std::optional<ActiveOptions>& options) {
-  std::vector<AssemblyId> order = twin.assemblies();
-  RandomStream shuffle = run.substream("order");
-  for (std::size_t i = order.size() - 1; i > 0; --i) {
-    const auto j = static_cast<std::size_t>(shuffle.uniform() * static_cast<double>(i + 1));
-    std::swap(order[i], order[std::min(j, i)]);
-  }
-  RandomStream drift_stream = run.substream("drift");
-  BouncingDrift<Dynamic> drift =
-      BouncingDrift<Dynamic>::random(twin.control_dimension(), drift_stream);
   std::optional<ActiveController<T>> controller;
   if (options) controller.emplace(twin, run.substream("controller"), *options);
   Outcome outcome;
-  double error = 0.0;
-  double offset = 0.0;
-  for (std::size_t t = 0; t < order.size(); ++t) {
-    const AssemblyId& x = order[t];
-    drift.advance();
-    const VectorX u = controller ? VectorX(controller->propose(x)) : twin.optimum(x);
-    const double z = twin.quality(x, VectorX(u - drift.offset()));
-    if (controller) controller->observe(x, u, z);
-    outcome.relative_residual += (z - twin.optimal_quality(x)) / twin.optimal_quality(x);
-    if (2 * t >= order.size()) {
-      const VectorX estimate =
-          controller ? VectorX(controller->offset_estimate()) : VectorX::Zero(u.size());
-      error += (estimate - drift.offset()).norm();
-      offset += drift.offset().norm();
-    }
-  }
-  outcome.relative_residual /= static_cast<double>(order.size());
-  outcome.lost = error > offset;
+  outcome.lost = examples::drifting_episode(
+      twin, run,
+      [&](const AssemblyId& x, const VectorX& offset) {
+        const VectorX u = controller ? VectorX(controller->propose(x)) : twin.optimum(x);
+        const double z = twin.quality(x, VectorX(u - offset));
+        if (controller) controller->observe(x, u, z);
+        outcome.relative_residual += (z - twin.optimal_quality(x)) / twin.optimal_quality(x);
+      },
+      [&] {
+        return controller ? VectorX(controller->offset_estimate())
+                          : VectorX::Zero(twin.control_dimension());
+      });
+  outcome.relative_residual /= static_cast<double>(twin.assemblies().size());
   return outcome;
 }
 

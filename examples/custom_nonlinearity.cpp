@@ -23,9 +23,9 @@
 
 #include <fmt/format.h>
 
-#include "twincal/controllers/active_controller.hpp"
+#include "black_box_episode.hpp"
+#include "twincal/controllers/presets.hpp"
 #include "twincal/controllers/searched_optimum_twin.hpp"
-#include "twincal/models/bouncing_drift.hpp"
 #include "twincal/models/deviation_nonlinearity.hpp"
 #include "twincal/models/key_point_twin.hpp"
 #include "twincal/models/no_nonlinearity.hpp"
@@ -34,6 +34,7 @@
 namespace {
 
 using namespace twincal;
+using examples::median;
 using Deviations = Eigen::Ref<VectorX>;
 using Constant = Eigen::Ref<const VectorX>;
 
@@ -135,12 +136,6 @@ struct Settings {
   std::uint64_t twin_seed = 11;
 };
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 struct Outcome {
   double baseline = 0.0;  // mean (z − z*)/z* at u0 − δu*
   double active = 0.0;
@@ -150,36 +145,22 @@ struct Outcome {
 // One episode: `twin` drives the controller, `plant` answers (the same object in twin mode).
 template <typename T, typename P>
 Outcome run_episode(const T& twin, const P& plant, const RandomStream& run) {
-  std::vector<AssemblyId> order = twin.assemblies();
-  RandomStream shuffle = run.substream("order");
-  for (std::size_t i = order.size() - 1; i > 0; --i) {
-    const auto j = static_cast<std::size_t>(shuffle.uniform() * static_cast<double>(i + 1));
-    std::swap(order[i], order[std::min(j, i)]);
-  }
-  RandomStream drift_stream = run.substream("drift");
-  BouncingDrift<Dynamic> drift =
-      BouncingDrift<Dynamic>::random(twin.control_dimension(), drift_stream);
   ActiveController<T> controller(twin, run.substream("controller"));
   Outcome outcome;
-  double error = 0.0;
-  double offset = 0.0;
-  for (std::size_t t = 0; t < order.size(); ++t) {
-    const AssemblyId& x = order[t];
-    drift.advance();
-    const VectorX u = controller.propose(x);
-    const double z = plant.quality(x, VectorX(u - drift.offset()));
-    controller.observe(x, u, z);
-    const double best = plant.optimal_quality(x);
-    outcome.active += (z - best) / best;
-    outcome.baseline += (plant.quality(x, VectorX(twin.optimum(x) - drift.offset())) - best) / best;
-    if (2 * t >= order.size()) {
-      error += (controller.offset_estimate() - drift.offset()).norm();
-      offset += drift.offset().norm();
-    }
-  }
-  outcome.baseline /= static_cast<double>(order.size());
-  outcome.active /= static_cast<double>(order.size());
-  outcome.lost = error > offset;
+  outcome.lost = examples::drifting_episode(
+      twin, run,
+      [&](const AssemblyId& x, const VectorX& offset) {
+        const VectorX u = controller.propose(x);
+        const double z = plant.quality(x, VectorX(u - offset));
+        controller.observe(x, u, z);
+        const double best = plant.optimal_quality(x);
+        outcome.active += (z - best) / best;
+        outcome.baseline += (plant.quality(x, VectorX(twin.optimum(x) - offset)) - best) / best;
+      },
+      [&] { return VectorX(controller.offset_estimate()); });
+  const auto assemblies = static_cast<double>(twin.assemblies().size());
+  outcome.baseline /= assemblies;
+  outcome.active /= assemblies;
   return outcome;
 }
 

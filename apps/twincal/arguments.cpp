@@ -96,4 +96,15 @@ void Arguments::require_all_read() const {
   }
 }
 
+std::vector<std::string_view> split_commas(std::string_view list) {
+  std::vector<std::string_view> items;
+  std::size_t begin = 0;
+  while (begin <= list.size()) {
+    const std::size_t end = std::min(list.find(',', begin), list.size());
+    items.push_back(list.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return items;
+}
+
 }  // namespace twincal::cli

@@ -40,4 +40,7 @@ class Arguments {
   std::set<std::string, std::less<>> read_;
 };
 
+/// The items of a comma-separated list ("" is one empty item, which the parsers refuse).
+[[nodiscard]] std::vector<std::string_view> split_commas(std::string_view list);
+
 }  // namespace twincal::cli

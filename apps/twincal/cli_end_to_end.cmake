@@ -34,23 +34,27 @@ function(read_results dir out_var)
   set(${out_var}_episodes ${episode_count} PARENT_SCOPE)
 endfunction()
 
+# The study on 2 threads into a/, whose output must match `progress` (else it fails with
+# `failure`), its results read into `results` (read_results). A macro, so that `output` and the
+# results land in the caller's scope.
+macro(run_study_into_a progress failure results)
+  twincal_ok(${study} --threads 2 --out "${WORK_DIR}/a")
+  if(NOT output MATCHES "${progress}")
+    message(FATAL_ERROR "${failure}:\n${output}")
+  endif()
+  read_results("${WORK_DIR}/a" ${results})
+endmacro()
+
 # 1. The study: 2 runs x 4 controllers x 10 assemblies.
-twincal_ok(${study} --threads 2 --out "${WORK_DIR}/a")
-if(NOT output MATCHES "8 episodes: 8 run now, 0 already")
-  message(FATAL_ERROR "first run did not run 8 episodes:\n${output}")
-endif()
-read_results("${WORK_DIR}/a" first)
+run_study_into_a("8 episodes: 8 run now, 0 already" "first run did not run 8 episodes" first)
 if(NOT first_rows EQUAL 81 OR NOT first_episodes EQUAL 8)
   message(FATAL_ERROR "expected 1 + 80 CSV rows and 8 episodes, got ${first_rows} and "
     "${first_episodes}")
 endif()
 
 # 2. A rerun skips every finished episode and changes nothing.
-twincal_ok(${study} --threads 2 --out "${WORK_DIR}/a")
-if(NOT output MATCHES "8 episodes: 0 run now, 8 already")
-  message(FATAL_ERROR "rerun did not skip the finished episodes:\n${output}")
-endif()
-read_results("${WORK_DIR}/a" second)
+run_study_into_a("8 episodes: 0 run now, 8 already" "rerun did not skip the finished episodes"
+  second)
 if(NOT first STREQUAL second)
   message(FATAL_ERROR "a rerun changed the results")
 endif()
@@ -61,11 +65,8 @@ file(STRINGS "${WORK_DIR}/a/episodes.jsonl" records)
 list(SUBLIST records 0 3 kept)
 list(JOIN kept "\n" kept_text)
 file(WRITE "${WORK_DIR}/a/episodes.jsonl" "${kept_text}\n")
-twincal_ok(${study} --threads 2 --out "${WORK_DIR}/a")
-if(NOT output MATCHES "8 episodes: 5 run now, 3 already")
-  message(FATAL_ERROR "resume did not run the 5 missing episodes:\n${output}")
-endif()
-read_results("${WORK_DIR}/a" resumed)
+run_study_into_a("8 episodes: 5 run now, 3 already" "resume did not run the 5 missing episodes"
+  resumed)
 if(NOT first STREQUAL resumed)
   message(FATAL_ERROR "the resumed results differ from the uninterrupted ones")
 endif()
@@ -93,6 +94,18 @@ foreach(command run paper scaling sweep plot summary)
   twincal_ok(${command} --help)
   if(NOT output MATCHES "usage: twincal ${command}")
     message(FATAL_ERROR "twincal ${command} --help printed:\n${output}")
+  endif()
+endforeach()
+# The config options' help is generated from their table: choices from the enums' name tables,
+# defaults from ExperimentConfig{} (config_options.cpp).
+twincal_ok(run --help)
+foreach(line
+    "--filter NAME +sigma points of the filter: merwe [|] julier [|] cubature [|] fifth_degree [|]"
+    "simplex [(]merwe: the paper's UKF; cubature: CKF; default merwe[)]"
+    "--runs N +runs per controller [(]default 10[)]"
+    "--twin-workers N +processes of the external twin [(]default 1;")
+  if(NOT output MATCHES "${line}")
+    message(FATAL_ERROR "twincal run --help lacks '${line}':\n${output}")
   endif()
 endforeach()
 

@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "arguments.hpp"
+#include "config_options.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/experiments/config_file.hpp"
@@ -52,39 +53,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// The options every study command reads into an ExperimentConfig; the defaults printed are the
-// config's own (ExperimentConfig{}), so that the help cannot disagree with what runs.
-std::string config_options_help() {
-  const ExperimentConfig defaults;
-  return fmt::format(
-      R"(  --config FILE.json     base config (docs/cli.md has every key); options below override it
-  --runs N               runs per controller (default {runs})
-  --assemblies N         assemblies per episode (default {assemblies}: all, in a seeded random order)
-  --seed S               master seed of the runs (default {seed})
-  --twin-seed S          seed of the twin (default {twin_seed})
-  --dimension D          locators of the analytic twin (default {dimension})
-  --nonlinearity K       the analytic twin's: none (RMS-quadratic), contact, stiffening, kink
-  --strength S           the nonlinearity's strength (default {strength}; contact in [0, 1])
-  --plant CASE           the plant is another FEM case than the twin (e.g. body-contact
-                         behind --case body); default: the twin itself
-  --plant-nonlinearity K the analytic plant's nonlinearity, which the twin lacks
-  --plant-strength S     its strength (default: --strength)
-  --filter NAME          merwe (UKF, default) | julier | cubature | fifth_degree | simplex
-  --sampler NAME         sobol (default) | halton | random | latin_hypercube
-  --exploration NAME     trace (default) | weighted_trace | log_det | max_eigenvalue
-  --candidates N         candidates per assembly (default 2^(2+d))
-  --controllers LIST     comma-separated: baseline, nominal, default, w=<0..1>, active,
-                         per-component:w=<0..1>, or "paper"
-                         (default paper: baseline, default, w=0, 0.1, ..., 1, active))
-  --twin-command "CMD"   the program of the external case (overrides external_twin.command
-                         of --config, which describes the twin: docs/external.md)
-  --twin-workers N       processes of the external twin (default 1; results do not depend on N)
-)",
-      fmt::arg("runs", defaults.runs), fmt::arg("assemblies", defaults.assemblies),
-      fmt::arg("seed", defaults.seed), fmt::arg("twin_seed", defaults.twin_seed),
-      fmt::arg("dimension", defaults.analytic_dimension), fmt::arg("strength", defaults.strength));
-}
-
 constexpr const char* execution_help =
     R"(  --out DIR              results directory (created; rerunning resumes it)
   --threads N            worker threads (default: all cores; under mpirun/srun each rank runs
@@ -96,89 +64,6 @@ constexpr const char* execution_help =
   --quiet                no progress line
   --dry-run              list the groups and episodes, run nothing
 )";
-
-// The items of a comma-separated list ("" is one empty item, which the parsers refuse).
-std::vector<std::string_view> split_commas(std::string_view list) {
-  std::vector<std::string_view> items;
-  std::size_t begin = 0;
-  while (begin <= list.size()) {
-    const std::size_t end = std::min(list.find(',', begin), list.size());
-    items.push_back(list.substr(begin, end - begin));
-    begin = end + 1;
-  }
-  return items;
-}
-
-std::vector<ControllerSpec> parse_controllers(const std::string& list) {
-  if (list == "paper") return ControllerSpec::paper();
-  std::vector<ControllerSpec> specs;
-  for (const std::string_view item : split_commas(list)) {
-    specs.push_back(ControllerSpec::parse(item));
-  }
-  return specs;
-}
-
-// --twin-command and --twin-workers: the program and the processes of the external twin of
-// every config (which must describe one: its locators and bounds come from the config).
-void apply_twin_options(Arguments& arguments, std::span<ExperimentConfig> configs) {
-  const auto twin_command = arguments.text("twin-command");
-  const auto twin_workers = arguments.integer("twin-workers");
-  if (!twin_command && !twin_workers) return;
-  const std::string option = twin_command ? "--twin-command" : "--twin-workers";
-  for (ExperimentConfig& config : configs) {
-    if (!config.external_twin) {
-      throw InvalidArgumentError(
-          option, fmt::format("{}: the config has no external_twin; rule: give --config "
-                              "FILE.json whose external_twin describes the twin (its locators "
-                              "and bounds; docs/external.md)",
-                              option));
-    }
-    if (twin_command) from_json(json{{"command", *twin_command}}, *config.external_twin);
-    if (twin_workers) config.external_twin->workers = *twin_workers;
-  }
-}
-
-// The base config from --config and the options shared by run, paper and scaling; controllers
-// are `default_controllers` unless the config file or --controllers names them.
-ExperimentConfig read_config(
-    Arguments& arguments,
-    const std::vector<ControllerSpec>& default_controllers = ControllerSpec::paper()) {
-  ExperimentConfig config;
-  config.controllers = default_controllers;
-  if (const auto path = arguments.text("config")) {
-    const json document = read_config_file(*path);
-    config = document;
-    if (!document.contains("controllers")) config.controllers = default_controllers;
-  }
-  if (const auto v = arguments.integer("runs")) config.runs = *v;
-  if (const auto v = arguments.integer("assemblies")) config.assemblies = *v;
-  if (const auto v = arguments.seed("seed")) config.seed = *v;
-  if (const auto v = arguments.seed("twin-seed")) config.twin_seed = *v;
-  if (const auto v = arguments.integer("dimension")) config.analytic_dimension = *v;
-  if (const auto v = arguments.text("nonlinearity")) {
-    config.nonlinearity = parse_enum<Nonlinearity>(*v, "--nonlinearity");
-  }
-  if (const auto v = arguments.real("strength")) config.strength = *v;
-  if (const auto v = arguments.text("plant"))
-    config.plant_case = parse_enum<TwinCase>(*v, "--plant");
-  if (const auto v = arguments.text("plant-nonlinearity")) {
-    config.plant_nonlinearity = parse_enum<Nonlinearity>(*v, "--plant-nonlinearity");
-  }
-  if (const auto v = arguments.real("plant-strength")) config.plant_strength = *v;
-  if (const auto v = arguments.text("filter"))
-    config.filter = parse_enum<FilterScheme>(*v, "--filter");
-  if (const auto v = arguments.text("sampler")) {
-    config.sampler = parse_enum<CandidateSampler>(*v, "--sampler");
-  }
-  if (const auto v = arguments.text("exploration")) {
-    config.exploration = parse_enum<ExplorationKind>(*v, "--exploration");
-  }
-  if (const auto v = arguments.integer("candidates")) config.candidates = *v;
-  if (const auto v = arguments.text("controllers")) config.controllers = parse_controllers(*v);
-  apply_twin_options(arguments, std::span(&config, 1));
-  if (const auto v = arguments.text("controller")) config.controllers = parse_controllers(*v);
-  return config;
-}
 
 // How a study command runs: the run options, and whether an MPI job's other ranks are the
 // external twins' workers (--mpi-twin-pool) rather than running episodes.

@@ -5,7 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include "episode_benchmark.hpp"
-#include "twincal/controllers/active_controller.hpp"
+#include "twincal/controllers/presets.hpp"
 #include "twincal/controllers/searched_optimum_twin.hpp"
 #include "twincal/models/contact_nonlinearity.hpp"
 #include "twincal/models/key_point_twin.hpp"
@@ -17,12 +17,10 @@ using namespace twincal::benchmarks;
 
 template <int N>
 void BM_ActiveController(benchmark::State& state) {
-  const Index d = N == Dynamic ? static_cast<Index>(state.range(0)) : N;
-  const RmsQuadraticTwin twin = make_twin(d);
-  const CountedTwin counted(twin);
-  run_episodes<N>(state, twin, counted, [&](std::uint64_t episode) {
-    return ActiveController<CountedTwin, N>(counted, RandomStream(3).substream(episode));
-  });
+  const Index d =
+      run_rms_quadratic_episodes<N>(state, [](const CountedTwin& counted, std::uint64_t episode) {
+        return ActiveController<CountedTwin, N>(counted, RandomStream(3).substream(episode));
+      });
   state.counters["budget"] = static_cast<double>(4 * (d + 1) * (d + 1));
 }
 

@@ -66,4 +66,17 @@ void run_episodes(benchmark::State& state, const T& twin, const Counted& counted
   if constexpr (scores_candidates) state.counters["scored_per_assembly"] = scored / iterations;
 }
 
+/// Runs episodes on make_twin(d) behind a counting Evaluator, d = N or, for Dynamic,
+/// state.range(0); `make(counted, episode)` builds each episode's controller on `counted`.
+/// Returns d.
+template <int N, typename Make>
+Index run_rms_quadratic_episodes(benchmark::State& state, Make make) {
+  const Index d = N == Dynamic ? static_cast<Index>(state.range(0)) : N;
+  const RmsQuadraticTwin twin = make_twin(d);
+  const CountedTwin counted(twin);
+  run_episodes<N>(state, twin, counted,
+                  [&](std::uint64_t episode) { return make(counted, episode); });
+  return d;
+}
+
 }  // namespace twincal::benchmarks

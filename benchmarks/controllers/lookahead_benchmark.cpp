@@ -16,23 +16,18 @@ using namespace twincal::benchmarks;
 
 template <int N>
 void BM_LookaheadController(benchmark::State& state) {
-  const Index d = N == Dynamic ? static_cast<Index>(state.range(0)) : N;
-  const RmsQuadraticTwin twin = make_twin(d);
-  const CountedTwin counted(twin);
   LookaheadOptions options{.w = 0.5};
   if (state.range(1) > 0) options.candidates = state.range(1);
-  run_episodes<N>(state, twin, counted, [&](std::uint64_t episode) {
-    return make_paper_controller<N>(counted, RandomStream(3).substream(episode), options);
-  });
+  const Index d =
+      run_rms_quadratic_episodes<N>(state, [&](const CountedTwin& counted, std::uint64_t episode) {
+        return make_paper_controller<N>(counted, RandomStream(3).substream(episode), options);
+      });
   state.counters["budget"] = static_cast<double>(options.candidate_count(d));
 }
 
 template <int N>
 void BM_DefaultController(benchmark::State& state) {
-  const Index d = N == Dynamic ? static_cast<Index>(state.range(0)) : N;
-  const RmsQuadraticTwin twin = make_twin(d);
-  const CountedTwin counted(twin);
-  run_episodes<N>(state, twin, counted, [&](std::uint64_t episode) {
+  run_rms_quadratic_episodes<N>(state, [](const CountedTwin& counted, std::uint64_t episode) {
     return PaperDefaultController<CountedTwin, N>(
         make_paper_filter<N>(counted, RandomStream(3).substream(episode)));
   });

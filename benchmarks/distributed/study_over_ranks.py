@@ -14,7 +14,6 @@ results directories of every rank count are checked to be the same as the first'
 """
 import argparse
 import json
-import os
 import re
 import shutil
 import subprocess
@@ -22,6 +21,8 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tests" / "distributed"))
+from mpi_study import external_twin, launcher, mpi_environment  # noqa: E402
 
 
 def main():
@@ -38,28 +39,16 @@ def main():
     config = {
         "name": "sleeping",
         "case": "external",
-        "external_twin": {
-            "command": [sys.executable, str(Path(__file__).resolve().parent / "sleeping_twin.py"),
-                        "--sleep", str(args.sleep)],
-            "locators": ["A", "B", "C"],
-            "lower_bounds": [-1.0, -1.0, -1.0],
-            "upper_bounds": [1.0, 1.0, 1.0],
-            "upper_parts": 2,
-            "lower_parts": 5,
-            "workers": 1,
-            "optimum_budget": 16,
-        },
+        "external_twin": external_twin(
+            [sys.executable, str(Path(__file__).resolve().parent / "sleeping_twin.py"),
+             "--sleep", str(args.sleep)], 2, 5),
         "locators": "all",
         "controllers": ["default"],
         "runs": args.runs,
         "assemblies": 10,
     }
     (work / "config.json").write_text(json.dumps(config))
-    env = dict(os.environ)
-    if os.geteuid() == 0:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    version = subprocess.run(["mpiexec", "--version"], capture_output=True, text=True).stdout
-    extra = ["--oversubscribe"] if "Open MPI" in version or "OpenRTE" in version else []
+    env = mpi_environment()
     print("| ranks | wall time | of it set-up | episodes per second | speed-up | ÷ ranks |")
     print("|---|---|---|---|---|---|")
     first = None
@@ -67,7 +56,7 @@ def main():
     for ranks in [int(r) for r in args.ranks.split(",")]:
         out = work / f"ranks{ranks}"
         result = subprocess.run(
-            ["mpiexec", "-n", str(ranks)] + extra +
+            launcher("mpiexec", ranks) +
             [args.twincal, "run", "--config", str(work / "config.json"), "--out", str(out),
              "--quiet"], capture_output=True, text=True, env=env)
         if result.returncode != 0:

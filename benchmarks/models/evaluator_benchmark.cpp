@@ -86,12 +86,9 @@ MatrixX controls_for(Index k) {
   return controls;
 }
 
-// Batch of k = 32 controls (2^(2+d) candidates for d = 3, the paper's look-ahead batch).
-// Arguments: batch size, waits (0 = CPU work, 1 = waiting)[, threads].
-void BM_SerialEvaluator(benchmark::State& state) {
-  MillisecondTwin twin;
-  twin.waits = state.range(1) != 0;
-  const Evaluator<MillisecondTwin> evaluator(twin);
+// Times `evaluator`'s batches of state.range(0) controls.
+template <typename E>
+void time_batches(benchmark::State& state, const E& evaluator) {
   const MatrixX controls = controls_for(state.range(0));
   VectorX out(controls.cols());
   for (auto _ : state) {
@@ -99,6 +96,15 @@ void BM_SerialEvaluator(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(state.iterations() * controls.cols());
+}
+
+// Batch of k = 32 controls (2^(2+d) candidates for d = 3, the paper's look-ahead batch).
+// Arguments: batch size, waits (0 = CPU work, 1 = waiting)[, threads].
+void BM_SerialEvaluator(benchmark::State& state) {
+  MillisecondTwin twin;
+  twin.waits = state.range(1) != 0;
+  const Evaluator<MillisecondTwin> evaluator(twin);
+  time_batches(state, evaluator);
   state.counters["rounds_per_ms"] = static_cast<double>(twin.rounds);
 }
 BENCHMARK(BM_SerialEvaluator)
@@ -112,13 +118,7 @@ void BM_ParallelEvaluator(benchmark::State& state) {
   twin.waits = state.range(1) != 0;
   const Evaluator<MillisecondTwin, ParallelExecution> evaluator(twin,
                                                                 ParallelExecution(state.range(2)));
-  const MatrixX controls = controls_for(state.range(0));
-  VectorX out(controls.cols());
-  for (auto _ : state) {
-    evaluator.quality_batch(0, controls, out);
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.SetItemsProcessed(state.iterations() * controls.cols());
+  time_batches(state, evaluator);
 }
 BENCHMARK(BM_ParallelEvaluator)
     ->Args({32, 0, 1})

@@ -10,7 +10,6 @@ script checks that their estimates agree before it reports times (medians of the
 microseconds per step).
 """
 
-import argparse
 import statistics
 import time
 
@@ -20,7 +19,11 @@ import twincal
 from filterpy.kalman import MerweScaledSigmaPoints as FilterpyPoints
 from filterpy.kalman import UnscentedKalmanFilter as FilterpyUkf
 
+from benchmark_cli import start_benchmark
+
 Q0 = 0.04
+COLUMNS = ["d", "filterpy (µs/step)", "twincal, hx per point", "twincal, hx batched",
+           "speed-up (batched)", "max |x_twincal − x_filterpy|"]
 
 
 def problem(d, steps, seed=2023):
@@ -73,15 +76,8 @@ def run_filterpy(d, H, controls, z):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=2000)
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--dimensions", default="1,3,6,12")
-    args = parser.parse_args()
-    print("| d | filterpy (µs/step) | twincal, hx per point | twincal, hx batched | speed-up "
-          "(batched) | max |x_twincal − x_filterpy| |")
-    print("|---|---:|---:|---:|---:|---:|")
-    for d in (int(v) for v in args.dimensions.split(",")):
+    args = start_benchmark(__doc__, "steps", 2000, "1,3,6,12", COLUMNS, left_aligned=1)
+    for d in args.dimensions:
         H, controls, z = problem(d, args.steps)
         times = {"filterpy": [], "per_point": [], "batched": []}
         for _ in range(args.repeats):

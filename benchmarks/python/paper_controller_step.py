@@ -17,7 +17,6 @@ the measured z. Both run the same drifting plant; the script reports millisecond
 (medians of the repeats) and twin calls (Python twin) or Q-evaluations (FEM twin) per assembly.
 """
 
-import argparse
 import statistics
 import time
 
@@ -27,6 +26,11 @@ from scipy.stats import norm, qmc
 
 import twincal
 from twincal.reference_twins import QuadraticRmsTwin
+
+from benchmark_cli import start_benchmark
+
+COLUMNS = ["twin", "d", "candidates", "paper's stack (ms / assembly)", "twin evaluations",
+           "twincal (ms / assembly)", "twin evaluations", "speed-up"]
 
 
 class Counting:
@@ -139,15 +143,8 @@ def measure(twin, d, args):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--assemblies", type=int, default=100)
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--dimensions", default="1,3")
-    args = parser.parse_args()
-    print("| twin | d | candidates | paper's stack (ms / assembly) | twin evaluations | "
-          "twincal (ms / assembly) | twin evaluations | speed-up |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|")
-    for d in (int(v) for v in args.dimensions.split(",")):
+    args = start_benchmark(__doc__, "assemblies", 100, "1,3", COLUMNS, left_aligned=2)
+    for d in args.dimensions:
         twins = {"Python (QuadraticRmsTwin)": QuadraticRmsTwin(d, seed=2023)}
         if d in (1, 3):
             twins["FEM car body (twincal.Twin)"] = twincal.Twin(

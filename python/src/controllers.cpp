@@ -77,20 +77,14 @@ py::dict report_dict(const ProposalReport& r) {
 
 PaperSettings paper_settings(double measurement_variance, double process_variance,
                              double initial_variance) {
-  PaperSettings settings;
-  settings.measurement_variance = measurement_variance;
-  settings.process_variance = process_variance;
-  settings.initial_variance = initial_variance;
-  return settings;
+  return {.process_variance = process_variance,
+          .measurement_variance = measurement_variance,
+          .initial_variance = initial_variance};
 }
 
 LookaheadOptions lookahead_options(double w, const std::optional<Index>& candidates,
                                    double box_half_width) {
-  LookaheadOptions options;
-  options.w = w;
-  options.candidates = candidates;
-  options.box_half_width = box_half_width;
-  return options;
+  return {.w = w, .box_half_width = box_half_width, .candidates = candidates};
 }
 
 // The exploration loss `kind`; the weighted trace's W is `weights`, or the twin's sensitivity
@@ -164,6 +158,26 @@ py::class_<ControllerObject<C>> bind_controller(py::module_& module, const char*
   return cls;
 }
 
+// Defines `init`, a constructor over the paper's filter, on `cls`: its own arguments `args`,
+// then the filter's settings as keywords with PaperSettings' defaults (init's last parameters).
+template <typename C, typename Init, typename... Args>
+void def_paper_init(py::class_<ControllerObject<C>> cls, Init&& init, const Args&... args) {
+  cls.def(std::forward<Init>(init), args...,
+          py::arg("measurement_variance") = PaperSettings{}.measurement_variance,
+          py::arg("process_variance") = PaperSettings{}.process_variance,
+          py::arg("initial_variance") = PaperSettings{}.initial_variance);
+}
+
+// def_paper_init for a w-controller: twin, then the keywords w, seed, candidates and
+// box_half_width with LookaheadOptions' defaults, then `args`.
+template <typename C, typename Init, typename... Args>
+void def_lookahead_init(py::class_<ControllerObject<C>> cls, Init&& init, const Args&... args) {
+  def_paper_init(std::move(cls), std::forward<Init>(init), py::arg("twin"), py::kw_only(),
+                 py::arg("w") = LookaheadOptions{}.w, py::arg("seed") = default_seed,
+                 py::arg("candidates") = py::none(),
+                 py::arg("box_half_width") = LookaheadOptions{}.box_half_width, args...);
+}
+
 }  // namespace
 
 void bind_controllers(py::module_& module) {
@@ -176,84 +190,69 @@ void bind_controllers(py::module_& module) {
            }),
            py::arg("twin"));
 
-  bind_controller<Default>(
-      module, "DefaultController",
-      "The default controller (eq. (9)): u_t = u0(x_t) + the UKF's offset estimate, with the "
-      "paper's filter settings (Merwe points, Sigma_u = process_variance I, delta_u0 ~ N(0, "
-      "initial_variance I)); seeded.")
-      .def(py::init([](py::object twin, std::uint64_t seed, double measurement_variance,
-                       double process_variance, double initial_variance) {
-             const PaperSettings settings =
-                 paper_settings(measurement_variance, process_variance, initial_variance);
-             return make_object<Default>(std::move(twin), [&](const PythonTwin& t) {
-               return Default(make_paper_filter(t, RandomStream(seed), settings));
-             });
-           }),
-           py::arg("twin"), py::kw_only(), py::arg("seed") = default_seed,
-           py::arg("measurement_variance") = PaperSettings{}.measurement_variance,
-           py::arg("process_variance") = PaperSettings{}.process_variance,
-           py::arg("initial_variance") = PaperSettings{}.initial_variance);
+  def_paper_init(
+      bind_controller<Default>(
+          module, "DefaultController",
+          "The default controller (eq. (9)): u_t = u0(x_t) + the UKF's offset estimate, with the "
+          "paper's filter settings (Merwe points, Sigma_u = process_variance I, delta_u0 ~ N(0, "
+          "initial_variance I)); seeded."),
+      py::init([](py::object twin, std::uint64_t seed, double measurement_variance,
+                  double process_variance, double initial_variance) {
+        const PaperSettings settings =
+            paper_settings(measurement_variance, process_variance, initial_variance);
+        return make_object<Default>(std::move(twin), [&](const PythonTwin& t) {
+          return Default(make_paper_filter(t, RandomStream(seed), settings));
+        });
+      }),
+      py::arg("twin"), py::kw_only(), py::arg("seed") = default_seed);
 
-  bind_controller<Lookahead>(
-      module, "PaperController",
-      "The paper's w-controller (eqs. (11)-(14)): candidates from N(u0 + delta_u, P) in a box, "
-      "each scored by L_w = (1 - w) E[Q] + w L_explore(P+(u)); the twin evaluates candidates x "
-      "sigma points in one batch per assembly. The paper's: sampler='sobol' (scrambled, "
-      "QMCPy's default) and exploration='trace' ((1/d) sqrt(tr P+)); the ablations: sampler "
-      "'halton', 'random' or 'latin_hypercube', exploration 'weighted_trace' (Sec. 4; W = "
-      "`weights`, or inferred from the twin's curvature over its `assemblies`), 'log_det' or "
-      "'max_eigenvalue'. Seeded.")
-      .def(py::init([](py::object twin, double w, std::uint64_t seed,
-                       const std::optional<Index>& candidates, double box_half_width,
-                       const std::string& sampler, const std::string& exploration,
-                       const std::optional<VectorX>& weights, double measurement_variance,
-                       double process_variance, double initial_variance) {
-             const LookaheadOptions options = lookahead_options(w, candidates, box_half_width);
-             const CandidateSampler sampler_kind = parse_enum<CandidateSampler>(sampler, "sampler");
-             const PaperSettings settings =
-                 paper_settings(measurement_variance, process_variance, initial_variance);
-             return make_object<Lookahead>(std::move(twin), [&](const PythonTwin& t) {
-               const RandomStream stream(seed);
-               return Lookahead(make_paper_filter(t, stream, settings),
-                                AnySampler(sampler_kind, t.control_dimension(),
-                                           stream.substream("candidates").seed()),
-                                options, ExpectedQuality{},
-                                exploration_loss(exploration, weights, t));
-             });
-           }),
-           py::arg("twin"), py::kw_only(), py::arg("w") = LookaheadOptions{}.w,
-           py::arg("seed") = default_seed, py::arg("candidates") = py::none(),
-           py::arg("box_half_width") = LookaheadOptions{}.box_half_width,
-           py::arg("sampler") = "sobol", py::arg("exploration") = "trace",
-           py::arg("weights") = py::none(),
-           py::arg("measurement_variance") = PaperSettings{}.measurement_variance,
-           py::arg("process_variance") = PaperSettings{}.process_variance,
-           py::arg("initial_variance") = PaperSettings{}.initial_variance,
-           "candidates: per assembly, default the paper's 2^(2+d).");
+  def_lookahead_init(
+      bind_controller<Lookahead>(
+          module, "PaperController",
+          "The paper's w-controller (eqs. (11)-(14)): candidates from N(u0 + delta_u, P) in a box, "
+          "each scored by L_w = (1 - w) E[Q] + w L_explore(P+(u)); the twin evaluates candidates x "
+          "sigma points in one batch per assembly. The paper's: sampler='sobol' (scrambled, "
+          "QMCPy's default) and exploration='trace' ((1/d) sqrt(tr P+)); the ablations: sampler "
+          "'halton', 'random' or 'latin_hypercube', exploration 'weighted_trace' (Sec. 4; W = "
+          "`weights`, or inferred from the twin's curvature over its `assemblies`), 'log_det' or "
+          "'max_eigenvalue'. Seeded."),
+      py::init([](py::object twin, double w, std::uint64_t seed,
+                  const std::optional<Index>& candidates, double box_half_width,
+                  const std::string& sampler, const std::string& exploration,
+                  const std::optional<VectorX>& weights, double measurement_variance,
+                  double process_variance, double initial_variance) {
+        const LookaheadOptions options = lookahead_options(w, candidates, box_half_width);
+        const CandidateSampler sampler_kind = parse_enum<CandidateSampler>(sampler, "sampler");
+        const PaperSettings settings =
+            paper_settings(measurement_variance, process_variance, initial_variance);
+        return make_object<Lookahead>(std::move(twin), [&](const PythonTwin& t) {
+          const RandomStream stream(seed);
+          return Lookahead(make_paper_filter(t, stream, settings),
+                           AnySampler(sampler_kind, t.control_dimension(),
+                                      stream.substream("candidates").seed()),
+                           options, ExpectedQuality{}, exploration_loss(exploration, weights, t));
+        });
+      }),
+      py::arg("sampler") = "sobol", py::arg("exploration") = "trace",
+      py::arg("weights") = py::none(), "candidates: per assembly, default the paper's 2^(2+d).");
 
-  bind_controller<PerComponent>(
-      module, "PerComponentController",
-      "The per-component simplification the paper proposes for many locators (Sec. 4): d "
-      "one-locator w-controllers (the paper's, with Sobol candidates and the trace loss), all "
-      "updated with the shared quality; candidates per component default to 2^3. Component i "
-      "is seeded from `seed` and i.")
-      .def(py::init([](py::object twin, double w, std::uint64_t seed,
-                       const std::optional<Index>& candidates, double box_half_width,
-                       double measurement_variance, double process_variance,
-                       double initial_variance) {
-             const LookaheadOptions options = lookahead_options(w, candidates, box_half_width);
-             const PaperSettings settings =
-                 paper_settings(measurement_variance, process_variance, initial_variance);
-             return make_object<PerComponent>(std::move(twin), [&](const PythonTwin& t) {
-               return make_per_component_paper_controller(t, RandomStream(seed), options, settings);
-             });
-           }),
-           py::arg("twin"), py::kw_only(), py::arg("w") = LookaheadOptions{}.w,
-           py::arg("seed") = default_seed, py::arg("candidates") = py::none(),
-           py::arg("box_half_width") = LookaheadOptions{}.box_half_width,
-           py::arg("measurement_variance") = PaperSettings{}.measurement_variance,
-           py::arg("process_variance") = PaperSettings{}.process_variance,
-           py::arg("initial_variance") = PaperSettings{}.initial_variance);
+  def_lookahead_init(
+      bind_controller<PerComponent>(
+          module, "PerComponentController",
+          "The per-component simplification the paper proposes for many locators (Sec. 4): d "
+          "one-locator w-controllers (the paper's, with Sobol candidates and the trace loss), all "
+          "updated with the shared quality; candidates per component default to 2^3. Component i "
+          "is seeded from `seed` and i."),
+      py::init([](py::object twin, double w, std::uint64_t seed,
+                  const std::optional<Index>& candidates, double box_half_width,
+                  double measurement_variance, double process_variance, double initial_variance) {
+        const LookaheadOptions options = lookahead_options(w, candidates, box_half_width);
+        const PaperSettings settings =
+            paper_settings(measurement_variance, process_variance, initial_variance);
+        return make_object<PerComponent>(std::move(twin), [&](const PythonTwin& t) {
+          return make_per_component_paper_controller(t, RandomStream(seed), options, settings);
+        });
+      }));
 
   bind_controller<Active>(
       module, "ActiveController",

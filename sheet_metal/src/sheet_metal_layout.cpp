@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -60,6 +61,22 @@ void add_grid(std::vector<LayoutPoint>& points, const std::string& prefix, Sheet
   }
 }
 
+// The body's and the door's frame: two width × height parts, the upper lapping the lower's top
+// 60 mm (the flange), on 20 mm elements, with a staggered double row of welds every 40 mm along
+// the flange, 40 mm in from either end.
+SheetMetalLayout lap_flange_layout(std::string name, double width, double height,
+                                   FinalSupport final_support, WeldTie weld_tie) {
+  SheetMetalLayout layout;
+  layout.name = std::move(name);
+  layout.element_size = 20.0;
+  layout.lower = {0.0, 0.0, width, height};
+  layout.upper = {0.0, height - 60.0, width, height};
+  layout.welds = staggered_welds(40.0, width - 40.0, 40.0, height - 40.0, height - 20.0);
+  layout.final_support = final_support;
+  layout.weld_tie = weld_tie;
+  return layout;
+}
+
 }  // namespace
 
 std::vector<Index> tied_components(WeldTie tie) {
@@ -89,42 +106,45 @@ SheetMetalLayout SheetMetalLayout::lap_joint() {
 }
 
 SheetMetalLayout SheetMetalLayout::body() {
-  SheetMetalLayout layout;
-  layout.name = "body";
-  layout.element_size = 20.0;
-  layout.lower = {0.0, 0.0, 800.0, 400.0};
-  layout.upper = {0.0, 340.0, 800.0, 400.0};  // 60 mm lap flange, y ∈ [340, 400]
-  layout.welds = staggered_welds(40.0, 760.0, 40.0, 360.0, 380.0);
+  SheetMetalLayout layout = lap_flange_layout("body", 800.0, 400.0, FinalSupport::adjusted_locators,
+                                              WeldTie::translation);
   add_grid(layout.locators, "U", upper_part, {100.0, 400.0, 700.0}, {440.0, 680.0});
   add_grid(layout.locators, "L", lower_part, {100.0, 400.0, 700.0}, {60.0, 300.0});
   // 3 × 3 key points per part: edges, middle and the flange, m = 18.
   add_grid(layout.key_points, "K", upper_part, {20.0, 400.0, 780.0}, {400.0, 560.0, 740.0});
   add_grid(layout.key_points, "K", lower_part, {20.0, 400.0, 780.0}, {0.0, 180.0, 340.0});
-  layout.final_support = FinalSupport::adjusted_locators;
-  layout.weld_tie = WeldTie::translation;
   return layout;
 }
 
 SheetMetalLayout SheetMetalLayout::door() {
-  SheetMetalLayout layout;
-  layout.name = "door";
-  layout.element_size = 20.0;
-  layout.lower = {0.0, 0.0, 900.0, 500.0};
-  layout.upper = {0.0, 440.0, 900.0, 500.0};  // 60 mm lap flange, y ∈ [440, 500]
-  layout.welds = staggered_welds(40.0, 860.0, 40.0, 460.0, 480.0);
+  SheetMetalLayout layout = lap_flange_layout("door", 900.0, 500.0, FinalSupport::nominal_frame,
+                                              WeldTie::translation_and_rotation);
   add_grid(layout.locators, "U", upper_part, {100.0, 280.0, 460.0, 640.0, 800.0}, {620.0, 860.0});
   add_grid(layout.locators, "L", lower_part, {100.0, 460.0, 800.0}, {60.0, 200.0, 340.0});
   add_grid(layout.key_points, "K", upper_part, {20.0, 240.0, 460.0, 680.0, 880.0},
            {520.0, 700.0, 920.0});
   add_grid(layout.key_points, "K", lower_part, {20.0, 240.0, 460.0, 680.0, 880.0},
            {20.0, 240.0, 420.0});
-  // A nominal N-2-1 frame with three pins under each part (at nominal locator positions).
-  layout.supports = {{"S1", lower_part, 100.0, 60.0},  {"S2", lower_part, 800.0, 60.0},
-                     {"S3", lower_part, 460.0, 340.0}, {"S4", upper_part, 100.0, 860.0},
-                     {"S5", upper_part, 800.0, 860.0}, {"S6", upper_part, 460.0, 620.0}};
-  layout.final_support = FinalSupport::nominal_frame;
-  layout.weld_tie = WeldTie::translation_and_rotation;
+  // A nominal N-2-1 frame with three pins under each part.
+  layout.supports = layout.supports_at({"L1", "L3", "L8", "U6", "U10", "U3"});
   return layout;
+}
+
+std::vector<LayoutPoint> SheetMetalLayout::supports_at(
+    const std::vector<std::string>& locator_names) const {
+  std::vector<LayoutPoint> out;
+  for (const std::string& wanted : locator_names) {
+    const auto locator = std::find_if(locators.begin(), locators.end(),
+                                      [&](const LayoutPoint& p) { return p.name == wanted; });
+    if (locator == locators.end()) {
+      throw InvalidArgumentError(
+          "locator_names",
+          fmt::format("locator_names: '{}' is not a locator; rule: must name the layout's locators",
+                      wanted));
+    }
+    out.push_back({fmt::format("S{}", out.size() + 1), locator->part, locator->x, locator->y});
+  }
+  return out;
 }
 
 PlateMesh SheetMetalLayout::mesh(SheetMetalPart part) const {

@@ -1,4 +1,4 @@
-#include "twincal/controllers/active_controller.hpp"
+#include "twincal/controllers/presets.hpp"
 
 #include <cmath>
 #include <limits>
@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "controller_fixture.hpp"
-#include "twincal/controllers/information_probe.hpp"
+#include "twincal/controllers/active/information_probe.hpp"
 #include "twincal/controllers/searched_optimum_twin.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/filters/simplex_sigma_points.hpp"

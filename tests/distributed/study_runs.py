@@ -31,6 +31,8 @@ import sys
 import time
 from pathlib import Path
 
+from mpi_study import external_twin, launcher, mpi_environment
+
 HERE = Path(__file__).resolve().parent
 RUN = ["run", "--case", "analytic", "--runs", "3", "--assemblies", "20",
        "--controllers", "baseline,default,w=1,active", "--quiet"]
@@ -49,16 +51,7 @@ def external_config(work, program, name):
     """A small study on the external twin `program` (a Python script), written to work/name."""
     config = {
         "case": "external",
-        "external_twin": {
-            "command": [sys.executable, str(program)],
-            "locators": ["A", "B", "C"],
-            "lower_bounds": [-1.0, -1.0, -1.0],
-            "upper_bounds": [1.0, 1.0, 1.0],
-            "upper_parts": 3,
-            "lower_parts": 3,
-            "workers": 1,
-            "optimum_budget": 16,
-        },
+        "external_twin": external_twin([sys.executable, str(program)], 3, 3),
         "locators": "all",
         "controllers": ["baseline", "default", "w=1", "active"],
         "runs": 2,
@@ -80,20 +73,6 @@ def run(command, **kwargs):
 def compare(expected, actual, any_order=False):
     run([sys.executable, HERE / "compare_results.py", expected, actual] +
         (["--any-order"] if any_order else []))
-
-
-def mpi_environment():
-    env = dict(os.environ)
-    if os.geteuid() == 0:  # CI containers run as root, which OpenMPI refuses by default
-        env["OMPI_ALLOW_RUN_AS_ROOT"] = "1"
-        env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1"
-    return env
-
-
-def launcher(mpiexec, ranks):
-    version = subprocess.run([mpiexec, "--version"], capture_output=True, text=True).stdout
-    extra = ["--oversubscribe"] if "Open MPI" in version or "OpenRTE" in version else []
-    return [mpiexec, "-n", str(ranks)] + extra
 
 
 def stored(directory):

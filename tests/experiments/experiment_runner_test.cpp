@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "external_twin_testing.hpp"
 #include "results_files.hpp"
 #include "twincal/core/error.hpp"
 
@@ -43,17 +44,8 @@ std::string runner_timeless(const fs::path& path) {
 ExperimentGroup batch_crashing_group(std::vector<ControllerSpec> controllers) {
   ExperimentGroup group;
   group.config.twin_case = TwinCase::external;
-  ExternalTwinSettings settings;
-  settings.command = {"python3", TWINCAL_TEST_DATA_DIR "/batch_crashing_twin.py"};
-  settings.locators = {"A", "B", "C"};
-  settings.lower_bounds = {-1.0, -1.0, -1.0};
-  settings.upper_bounds = {1.0, 1.0, 1.0};
-  settings.upper_parts = 2;
-  settings.lower_parts = 2;
-  settings.workers = 1;
-  settings.optimum_global_evaluations = 60;
-  settings.optimum_local_evaluations = 60;
-  group.config.external_twin = settings;
+  group.config.external_twin = test_support::three_locator_python_twin(
+      TWINCAL_TEST_DATA_DIR "/batch_crashing_twin.py", 2, 2, 60);
   group.config.locators = "all";
   group.config.runs = 4;
   group.config.assemblies = 3;

@@ -29,6 +29,15 @@ ExperimentGroup store_group() {
   return {config, nlohmann::json::object()};
 }
 
+// A fresh scratch directory named after the test, the analytic group and its twin.
+class ResultStoreOfAnalyticGroup : public ::testing::Test {
+ protected:
+  const fs::path dir_ =
+      store_scratch(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  const ExperimentGroup group_ = store_group();
+  const CaseTwin twin_ = make_case_twin(group_.config);
+};
+
 Index store_lines(const fs::path& path) {
   std::ifstream in(path);
   Index lines = 0;
@@ -36,21 +45,18 @@ Index store_lines(const fs::path& path) {
   return lines;
 }
 
-TEST(ResultStore, AppendsRowsAndRecordsAndReloadsThem) {
-  const fs::path dir = store_scratch("reload");
-  const ExperimentGroup group = store_group();
-  const CaseTwin twin = make_case_twin(group.config);
+TEST_F(ResultStoreOfAnalyticGroup, AppendsRowsAndRecordsAndReloadsThem) {
   {
-    ResultStore store(dir);
-    store.add_group(group, twin);
-    store.append(run_episode(twin, group.config, ControllerSpec::baseline(), 0));
-    store.append(run_episode(twin, group.config, ControllerSpec::lookahead(0.5), 0));
+    ResultStore store(dir_);
+    store.add_group(group_, twin_);
+    store.append(run_episode(twin_, group_.config, ControllerSpec::baseline(), 0));
+    store.append(run_episode(twin_, group_.config, ControllerSpec::lookahead(0.5), 0));
     store.write_summary();
     EXPECT_TRUE(store.contains("analytic/B", "w=0.5", 0));
     EXPECT_FALSE(store.contains("analytic/B", "w=0.5", 1));
   }
-  EXPECT_EQ(store_lines(dir / ResultStore::csv_name), 1 + 2 * 5);
-  const ResultStore reopened(dir);
+  EXPECT_EQ(store_lines(dir_ / ResultStore::csv_name), 1 + 2 * 5);
+  const ResultStore reopened(dir_);
   ASSERT_EQ(reopened.episodes().size(), 2U);
   EXPECT_EQ(reopened.episodes()[1].at("controller"), "w=0.5");
   EXPECT_TRUE(reopened.contains("analytic/B", "baseline", 0));
@@ -58,19 +64,16 @@ TEST(ResultStore, AppendsRowsAndRecordsAndReloadsThem) {
   EXPECT_EQ(reopened.groups()[0].at("twin").at("locator_names"), nlohmann::json::array({"B"}));
 }
 
-TEST(ResultStore, RecordsTheLostRuleAndReadsItBackIdentically) {
-  const fs::path dir = store_scratch("lost");
-  const ExperimentGroup group = store_group();
-  const CaseTwin twin = make_case_twin(group.config);
-  EpisodeResult lost = run_episode(twin, group.config, ControllerSpec::lookahead(0.5), 1);
+TEST_F(ResultStoreOfAnalyticGroup, RecordsTheLostRuleAndReadsItBackIdentically) {
+  EpisodeResult lost = run_episode(twin_, group_.config, ControllerSpec::lookahead(0.5), 1);
   lost.estimate_error_second_half = 0.3;  // as assess_lost would record a lost episode
   lost.offset_norm_second_half = 0.1;
   lost.lost = true;
-  const EpisodeResult baseline = run_episode(twin, group.config, ControllerSpec::baseline(), 1);
+  const EpisodeResult baseline = run_episode(twin_, group_.config, ControllerSpec::baseline(), 1);
   std::vector<nlohmann::json> written;
   {
-    ResultStore store(dir);
-    store.add_group(group, twin);
+    ResultStore store(dir_);
+    store.add_group(group_, twin_);
     store.append(lost);
     store.append(baseline);
     store.write_summary();
@@ -82,34 +85,31 @@ TEST(ResultStore, RecordsTheLostRuleAndReadsItBackIdentically) {
   EXPECT_EQ(written[0].at("offset_norm_second_half"), 0.1);
   EXPECT_EQ(written[1].at("lost"), false);
   EXPECT_EQ(written[1].at("estimate_error_second_half"), written[1].at("offset_norm_second_half"));
-  const ResultStore reopened(dir);
+  const ResultStore reopened(dir_);
   EXPECT_EQ(reopened.episodes(), written);
 }
 
-TEST(ResultStore, DropsTheRowsOfAnEpisodeWithoutRecordAndATornRecord) {
-  const fs::path dir = store_scratch("torn");
-  const ExperimentGroup group = store_group();
-  const CaseTwin twin = make_case_twin(group.config);
+TEST_F(ResultStoreOfAnalyticGroup, DropsTheRowsOfAnEpisodeWithoutRecordAndATornRecord) {
   {
-    ResultStore store(dir);
-    store.add_group(group, twin);
+    ResultStore store(dir_);
+    store.add_group(group_, twin_);
     store.write_summary();
-    store.append(run_episode(twin, group.config, ControllerSpec::baseline(), 0));
+    store.append(run_episode(twin_, group_.config, ControllerSpec::baseline(), 0));
   }
   {
     // A run killed after writing an episode's rows and half its record.
-    const EpisodeResult lost = run_episode(twin, group.config, ControllerSpec::baseline(), 1);
-    std::ofstream csv(dir / ResultStore::csv_name, std::ios::app);
+    const EpisodeResult lost = run_episode(twin_, group_.config, ControllerSpec::baseline(), 1);
+    std::ofstream csv(dir_ / ResultStore::csv_name, std::ios::app);
     csv << "analytic/B,baseline,1,0,1,1,1,1,0,0,0,0,0,nan,0,0\n";
-    std::ofstream jsonl(dir / ResultStore::episodes_name, std::ios::app);
+    std::ofstream jsonl(dir_ / ResultStore::episodes_name, std::ios::app);
     jsonl << R"({"group":"analytic/B","contr)";
     (void)lost;
   }
-  const ResultStore store(dir);
+  const ResultStore store(dir_);
   EXPECT_EQ(store.episodes().size(), 1U);
   EXPECT_FALSE(store.contains("analytic/B", "baseline", 1));
-  EXPECT_EQ(store_lines(dir / ResultStore::csv_name), 1 + 5);
-  EXPECT_EQ(store_lines(dir / ResultStore::episodes_name), 1);
+  EXPECT_EQ(store_lines(dir_ / ResultStore::csv_name), 1 + 5);
+  EXPECT_EQ(store_lines(dir_ / ResultStore::episodes_name), 1);
 }
 
 TEST(ResultStore, RefusesAForeignSummary) {

@@ -15,6 +15,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "../experiments/external_twin_testing.hpp"
 #include "serve_testing.hpp"
 
 #include "twincal/experiments/episode_runner.hpp"
@@ -342,16 +343,9 @@ TEST(ServeSession, PredictsWithTheTwinAndReportsStateCheckpointAndShutdown) {
 ServeOptions scanned_parts_options(std::int64_t snapshot_interval = 1000) {
   ServeOptions options;
   options.config.twin_case = TwinCase::external;
-  ExternalTwinSettings twin;
-  twin.command = {"python3", TWINCAL_TEST_DATA_DIR "/../../examples/external_twin/minimal_twin.py"};
-  twin.locators = {"A", "B", "C"};
-  twin.lower_bounds = {-1.0, -1.0, -1.0};
-  twin.upper_bounds = {1.0, 1.0, 1.0};
-  twin.upper_parts = 1;  // the twin's own assemblies are not used here
-  twin.lower_parts = 1;
-  twin.optimum_global_evaluations = 200;
-  twin.optimum_local_evaluations = 200;
-  options.config.external_twin = twin;
+  // 1 × 1 parts: the twin's own assemblies are not used here.
+  options.config.external_twin = test_support::three_locator_python_twin(
+      TWINCAL_TEST_DATA_DIR "/../../examples/external_twin/minimal_twin.py", 1, 1, 200);
   options.config.locators = "all";
   options.controller = ControllerSpec::parse("active");
   options.durability = Durability::normal;

@@ -16,11 +16,7 @@ inline SheetMetalLayout small_lap_joint(bool door_like) {
   SheetMetalLayout layout = SheetMetalLayout::lap_joint();
   layout.name = door_like ? "small-door" : "small-body";
   if (door_like) {
-    constexpr SheetMetalPart upper = SheetMetalPart::upper;
-    constexpr SheetMetalPart lower = SheetMetalPart::lower;
-    layout.supports = {{"S1", lower, 40.0, 40.0},   {"S2", lower, 360.0, 40.0},
-                       {"S3", lower, 200.0, 0.0},   {"S4", upper, 40.0, 280.0},
-                       {"S5", upper, 360.0, 280.0}, {"S6", upper, 200.0, 320.0}};
+    layout.supports = layout.supports_at({"L1", "L2", "L3", "U1", "U2", "U3"});
     layout.final_support = FinalSupport::nominal_frame;
     layout.weld_tie = WeldTie::translation_and_rotation;
   }

@@ -26,26 +26,9 @@ namespace twincal {
 namespace detail {
 
 // Instantiated in episodes_merwe.cpp, episodes_cubature.cpp and episodes_other_schemes.cpp.
-extern template AnyController make_filtered<1, MerweScaledSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
-extern template AnyController make_filtered<3, MerweScaledSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
-extern template AnyController make_filtered<Dynamic, MerweScaledSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
-extern template AnyController make_filtered<1, SphericalRadialSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
-extern template AnyController make_filtered<3, SphericalRadialSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
-extern template AnyController make_filtered<Dynamic, SphericalRadialSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
-extern template AnyController make_filtered<Dynamic, JulierSigmaPoints>(const EpisodeSetup&,
-                                                                        const ControllerSpec&,
-                                                                        const JulierSigmaPoints&);
-extern template AnyController make_filtered<Dynamic, FifthDegreeCubatureSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const FifthDegreeCubatureSigmaPoints&);
-extern template AnyController make_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetup&,
-                                                                         const ControllerSpec&,
-                                                                         const SimplexSigmaPoints&);
+TWINCAL_MERWE_EPISODES(TWINCAL_DECLARE_EPISODES)
+TWINCAL_CUBATURE_EPISODES(TWINCAL_DECLARE_EPISODES)
+TWINCAL_OTHER_SCHEME_EPISODES(TWINCAL_DECLARE_EPISODES)
 
 namespace {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Private to the experiments module: the construction of an episode's controller, the
 // filter-based ones instantiated per sigma-point scheme in episodes_<scheme>.cpp (declared
-// extern in episode_runner.cpp).
+// extern in episode_runner.cpp), both from the one table at the end of this file.
 
 #include <utility>
 #include <vector>
@@ -89,3 +89,25 @@ AnyController make_filtered(const EpisodeSetup& setup, const ControllerSpec& spe
 }
 
 }  // namespace twincal::detail
+
+// The table of make_filtered's instantiations, one row (N, Scheme) each, grouped by the file
+// that instantiates them (episodes_<group>.cpp applies TWINCAL_INSTANTIATE_EPISODES to its
+// group; episode_runner.cpp applies TWINCAL_DECLARE_EPISODES to all three). The paper's UKF
+// and the CKF at the fixed sizes of the paper's cases and at run-time size; the ablation-only
+// schemes at run-time size, one instantiation each.
+#define TWINCAL_MERWE_EPISODES(ROW) \
+  ROW(1, MerweScaledSigmaPoints)    \
+  ROW(3, MerweScaledSigmaPoints)    \
+  ROW(Dynamic, MerweScaledSigmaPoints)
+#define TWINCAL_CUBATURE_EPISODES(ROW) \
+  ROW(1, SphericalRadialSigmaPoints)   \
+  ROW(3, SphericalRadialSigmaPoints)   \
+  ROW(Dynamic, SphericalRadialSigmaPoints)
+#define TWINCAL_OTHER_SCHEME_EPISODES(ROW)     \
+  ROW(Dynamic, JulierSigmaPoints)              \
+  ROW(Dynamic, FifthDegreeCubatureSigmaPoints) \
+  ROW(Dynamic, SimplexSigmaPoints)
+#define TWINCAL_INSTANTIATE_EPISODES(N, Scheme)                                               \
+  template AnyController make_filtered<N, Scheme>(const EpisodeSetup&, const ControllerSpec&, \
+                                                  const Scheme&);
+#define TWINCAL_DECLARE_EPISODES(N, Scheme) extern TWINCAL_INSTANTIATE_EPISODES(N, Scheme)

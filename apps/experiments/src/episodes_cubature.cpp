@@ -4,11 +4,6 @@
 
 namespace twincal::detail {
 
-template AnyController make_filtered<1, SphericalRadialSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
-template AnyController make_filtered<3, SphericalRadialSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
-template AnyController make_filtered<Dynamic, SphericalRadialSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const SphericalRadialSigmaPoints&);
+TWINCAL_CUBATURE_EPISODES(TWINCAL_INSTANTIATE_EPISODES)
 
 }  // namespace twincal::detail

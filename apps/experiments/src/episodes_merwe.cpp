@@ -4,13 +4,6 @@
 
 namespace twincal::detail {
 
-template AnyController make_filtered<1, MerweScaledSigmaPoints>(const EpisodeSetup&,
-                                                                const ControllerSpec&,
-                                                                const MerweScaledSigmaPoints&);
-template AnyController make_filtered<3, MerweScaledSigmaPoints>(const EpisodeSetup&,
-                                                                const ControllerSpec&,
-                                                                const MerweScaledSigmaPoints&);
-template AnyController make_filtered<Dynamic, MerweScaledSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const MerweScaledSigmaPoints&);
+TWINCAL_MERWE_EPISODES(TWINCAL_INSTANTIATE_EPISODES)
 
 }  // namespace twincal::detail

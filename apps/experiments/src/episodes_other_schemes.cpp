@@ -7,13 +7,6 @@
 
 namespace twincal::detail {
 
-template AnyController make_filtered<Dynamic, JulierSigmaPoints>(const EpisodeSetup&,
-                                                                 const ControllerSpec&,
-                                                                 const JulierSigmaPoints&);
-template AnyController make_filtered<Dynamic, FifthDegreeCubatureSigmaPoints>(
-    const EpisodeSetup&, const ControllerSpec&, const FifthDegreeCubatureSigmaPoints&);
-template AnyController make_filtered<Dynamic, SimplexSigmaPoints>(const EpisodeSetup&,
-                                                                  const ControllerSpec&,
-                                                                  const SimplexSigmaPoints&);
+TWINCAL_OTHER_SCHEME_EPISODES(TWINCAL_INSTANTIATE_EPISODES)
 
 }  // namespace twincal::detail

@@ -64,12 +64,8 @@ class CalculixModel {
   [[nodiscard]] const PlateMesh& mesh(SheetMetalPart part) const noexcept {
     return part == SheetMetalPart::upper ? upper_mesh_ : lower_mesh_;
   }
-  [[nodiscard]] Index control_dimension() const noexcept {
-    return static_cast<Index>(layout_.locators.size());
-  }
-  [[nodiscard]] Index key_point_count() const noexcept {
-    return static_cast<Index>(layout_.key_points.size());
-  }
+  [[nodiscard]] Index control_dimension() const noexcept { return layout_.control_dimension(); }
+  [[nodiscard]] Index key_point_count() const noexcept { return layout_.key_point_count(); }
   [[nodiscard]] const std::vector<ContactPair>& contact_pairs() const noexcept { return pairs_; }
   /// Nodes in the deck (both faces of both sheets and one auxiliary node per weld).
   [[nodiscard]] Index deck_node_count() const noexcept;

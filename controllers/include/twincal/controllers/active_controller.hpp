@@ -1,9 +1,9 @@
 #pragma once
 /// @file
 /// `ActiveCalibrationController<Twin, N, Probe, Scheme, Optimizer>` and its preset
-/// `ActiveController<Twin, N>`: a controller that tracks the offset δu* of every locator at once
-/// and whose cost grows polynomially in d (docs/controllers.md, "Beyond the paper"). Per
-/// assembly x_t:
+/// `ActiveController<Twin, N>` (presets.hpp): a controller that tracks the offset δu* of every
+/// locator at once and whose cost grows polynomially in d (docs/controllers.md, "Beyond the
+/// paper"). Per assembly x_t:
 ///   1. u0(x_t), z*(x_t) (eq. 3);
 ///   2. the twin's local model Q²(x_t, v) ≈ c + 2gᵀ(v − u0) + (v − u0)ᵀH(v − u0)
 ///      (QuadraticSurrogate: d + 1 evaluations, (d + 1)(d + 2)/2 when H is refitted), checked
@@ -52,18 +52,18 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
-#include "twincal/controllers/active_options.hpp"
-#include "twincal/controllers/constant_velocity_estimator.hpp"
+#include "twincal/controllers/active/active_options.hpp"
+#include "twincal/controllers/active/constant_velocity_estimator.hpp"
+#include "twincal/controllers/active/probe_design.hpp"
+#include "twincal/controllers/active/quadratic_model.hpp"
+#include "twincal/controllers/active/quadratic_surrogate.hpp"
+#include "twincal/controllers/active/thompson_probe.hpp"
 #include "twincal/controllers/controller.hpp"
 #include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
-#include "twincal/controllers/probe_design.hpp"
 #include "twincal/controllers/proposal_report.hpp"
-#include "twincal/controllers/quadratic_model.hpp"
-#include "twincal/controllers/quadratic_surrogate.hpp"
-#include "twincal/controllers/thompson_probe.hpp"
 #include "twincal/core/cholesky.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
@@ -851,10 +851,5 @@ class ActiveCalibrationController {
   ProposalReport report_;
   ActiveStepReport step_;
 };
-
-/// The preset: ThompsonProbe, cubature sigma points for a twin that is not quadratic, NLopt
-/// for a twin without a known optimum.
-template <Twin T, int N = Dynamic>
-using ActiveController = ActiveCalibrationController<T, N>;
 
 }  // namespace twincal

@@ -23,8 +23,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/active/quadratic_model.hpp"
 #include "twincal/controllers/proposal_report.hpp"
-#include "twincal/controllers/quadratic_model.hpp"
 #include "twincal/core/cholesky.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"

@@ -4,6 +4,7 @@
 /// w-controller (Sjöberg et al. 2023, Sec. 2.3–2.4) is `PaperController`; an ablation swaps one
 /// policy: `CubatureController` (CKF for UKF), `HaltonController` (Halton for Sobol),
 /// `LogDetController` (D-optimal for trace), or any LookaheadController<...> you compose.
+/// `ActiveController` is the project's own controller, beyond the paper.
 ///
 /// `make_paper_filter` and `make_paper_controller` build them with the paper's settings
 /// (Sec. 2.4): Σu = 1e-3·I, σz² = 1e-4 (car body; 1e-6 for the door), δû0 ~ N(0, 1e-3·I),
@@ -18,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "twincal/controllers/active_controller.hpp"
 #include "twincal/controllers/default_controller.hpp"
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/log_det_loss.hpp"
@@ -73,6 +75,12 @@ using LogDetController = LookaheadController<PaperFilter<T, N>, Sobol, ExpectedQ
 template <Twin T, int N = Dynamic>
 using WeightedTraceController =
     LookaheadController<PaperFilter<T, N>, Sobol, ExpectedQuality, WeightedTraceLoss>;
+
+/// Beyond the paper: the active controller (docs/controllers.md) with its default policies —
+/// ThompsonProbe, cubature sigma points for a twin that is not quadratic, NLopt for a twin
+/// without a known optimum. The CLI's and Python's `active`.
+template <Twin T, int N = Dynamic>
+using ActiveController = ActiveCalibrationController<T, N>;
 
 /// A filter F (any sigma-point filter over RandomWalk<N> and QualityFeedback<T, N>) for `twin`
 /// (which must outlive it) with the paper's settings and the given scheme; δû0 is drawn from

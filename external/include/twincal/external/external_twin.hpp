@@ -187,16 +187,6 @@ class ExternalTwin {
     stop(/*graceful=*/false);
   }
 
-  /// Q(x, u): one request with one control.
-  [[nodiscard]] double quality(const Assembly& assembly,
-                               const Eigen::Ref<const VectorX>& control) const {
-    require_control(control, control_dimension());
-    double value = 0.0;
-    Eigen::Map<VectorX> out(&value, 1);
-    quality_batch(assembly, control, out);
-    return value;
-  }
-
   /// One request with every column of `controls`; a null quality comes back as NaN.
   /// @throws DimensionMismatchError for bad shapes; ExternalTwinError on a failure.
   void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
@@ -236,6 +226,12 @@ class ExternalTwin {
     const std::string reply = receive_line(deadline, fail);
     answered_ = true;
     parse_reply(reply, id, out, fail);
+  }
+
+  /// Q(x, u): one request with one control.
+  [[nodiscard]] double quality(const Assembly& assembly,
+                               const Eigen::Ref<const VectorX>& control) const {
+    return quality_of_one(*this, assembly, control);
   }
 
  private:

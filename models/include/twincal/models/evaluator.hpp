@@ -114,11 +114,7 @@ class Evaluator {
   /// Q(x, u), as a batch of one.
   [[nodiscard]] double quality(const Assembly& assembly,
                                const Eigen::Ref<const VectorX>& control) const {
-    require_control(control, control_dimension());
-    double value = 0.0;
-    Eigen::Map<VectorX> out(&value, 1);
-    quality_batch(assembly, control, out);
-    return value;
+    return quality_of_one(*this, assembly, control);
   }
 
   /// out(j) = Q(x, controls.col(j)), evaluated by the execution policy.

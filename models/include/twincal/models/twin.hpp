@@ -67,4 +67,17 @@ inline void require_control_batch(const Eigen::Ref<const MatrixX>& controls,
   require_dimension("out", out.size(), controls.cols());
 }
 
+/// Q(x, u) for one control through `twin.quality_batch`, as a batch of one: the `quality` of a
+/// twin whose batch is its only way to evaluate.
+/// @throws DimensionMismatchError for a control of the wrong size; what quality_batch throws.
+template <typename T>
+[[nodiscard]] double quality_of_one(const T& twin, const typename T::Assembly& assembly,
+                                    const Eigen::Ref<const VectorX>& control) {
+  require_control(control, twin.control_dimension());
+  double value = 0.0;
+  Eigen::Map<VectorX> out(&value, 1);
+  twin.quality_batch(assembly, control, out);
+  return value;
+}
+
 }  // namespace twincal

@@ -75,6 +75,19 @@ struct SheetMetalLayout {
   /// middle row, three locators per part, eight key points in and away from the flange; measured
   /// in the fixture on its adjusted locators with translation welds (the body's choices).
   [[nodiscard]] static SheetMetalLayout lap_joint();
+  /// Supports S1, S2, … at the nominal positions of the named locators, in order: a nominal
+  /// frame under them for FinalSupport::nominal_frame.
+  /// @throws InvalidArgumentError naming a locator the layout does not have.
+  [[nodiscard]] std::vector<LayoutPoint> supports_at(
+      const std::vector<std::string>& locator_names) const;
+  /// d: the number of adjustable locators.
+  [[nodiscard]] Index control_dimension() const noexcept {
+    return static_cast<Index>(locators.size());
+  }
+  /// m: the number of key measurement points.
+  [[nodiscard]] Index key_point_count() const noexcept {
+    return static_cast<Index>(key_points.size());
+  }
   /// The mesh of one part.
   /// @throws InvalidArgumentError when the outline is not a whole number of elements.
   [[nodiscard]] PlateMesh mesh(SheetMetalPart part) const;

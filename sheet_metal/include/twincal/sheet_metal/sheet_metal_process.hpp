@@ -43,12 +43,8 @@ class SheetMetalProcess {
   [[nodiscard]] const PlateModel& model(SheetMetalPart part) const noexcept {
     return part == SheetMetalPart::upper ? upper_ : lower_;
   }
-  [[nodiscard]] Index control_dimension() const noexcept {
-    return static_cast<Index>(layout_.locators.size());
-  }
-  [[nodiscard]] Index key_point_count() const noexcept {
-    return static_cast<Index>(layout_.key_points.size());
-  }
+  [[nodiscard]] Index control_dimension() const noexcept { return layout_.control_dimension(); }
+  [[nodiscard]] Index key_point_count() const noexcept { return layout_.key_point_count(); }
   /// Dofs of one part's free shape (3 per node).
   [[nodiscard]] Index dof_count(SheetMetalPart part) const noexcept {
     return model(part).mesh().dof_count();

@@ -19,8 +19,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/active/probe_design.hpp"
 #include "twincal/controllers/controller_state_json.hpp"
-#include "twincal/controllers/probe_design.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/random_stream.hpp"

@@ -1,4 +1,4 @@
-#include "twincal/controllers/constant_velocity_estimator.hpp"
+#include "twincal/controllers/active/constant_velocity_estimator.hpp"
 
 #include <cmath>
 #include <limits>
@@ -66,6 +66,50 @@ TEST(ConstantVelocityEstimator, FollowsAConstantVelocityDriftWithoutLag) {
   // The covariance is the inverse Gauss–Newton matrix: symmetric positive definite.
   EXPECT_TRUE(estimator.covariance().isApprox(estimator.covariance().transpose()));
   EXPECT_GT(estimator.covariance().ldlt().vectorD().minCoeff(), 0.0);
+}
+
+// Each fit reports its solve: a fit that reached a minimum within the iteration budget, one
+// cut short by it, and a restored estimator that has not fitted yet, then fits as its original
+// does.
+TEST(ConstantVelocityEstimator, ItsSolveSummarySaysHowTheFitEnded) {
+  using Status = ConstantVelocityEstimator<3>::SolveStatus;
+  const Eigen::Vector3d offset(0.4, -0.3, 0.2);
+  const auto run = [&offset](ConstantVelocityEstimator<3>& estimator) {
+    DriftScenario scenario;
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    for (Index t = 0; t < 20; ++t) {
+      const Eigen::Vector3d u = scenario.next(t, Eigen::Vector3d::Zero());
+      estimator.add(t, scenario.model, u, scenario.plant(u, offset));
+    }
+  };
+  ConstantVelocityEstimator<3> estimator = make_estimator();
+  run(estimator);
+  estimator.fit(20);
+  // At a minimum: its step fell below tolerance, or no halving of it lowered the cost.
+  const auto& solved = estimator.last_solve();
+  EXPECT_TRUE(solved.status == Status::converged || solved.status == Status::no_descent)
+      << static_cast<int>(solved.status);
+  EXPECT_GE(solved.iterations, 1);
+  EXPECT_LE(solved.iterations, estimator.options().max_iterations);
+  EXPECT_GE(solved.data_cost, 0.0);
+  EXPECT_GE(solved.cost, solved.data_cost);  // the prior's part is a squared norm
+
+  ConstantVelocityOptions one_step;
+  one_step.max_iterations = 1;
+  ConstantVelocityEstimator<3> hurried(Eigen::Vector3d::Constant(2.0), 1e-4, one_step);
+  run(hurried);
+  hurried.fit(20);
+  EXPECT_EQ(hurried.last_solve().status, Status::max_iterations);
+  EXPECT_EQ(hurried.last_solve().iterations, 1);
+
+  ConstantVelocityEstimator<3> restored = make_estimator();
+  restored.restore(estimator.save());
+  EXPECT_EQ(restored.last_solve().status, Status::none);
+  estimator.fit(21);
+  restored.fit(21);
+  EXPECT_EQ(restored.last_solve().status, estimator.last_solve().status);
+  EXPECT_EQ(restored.last_solve().iterations, estimator.last_solve().iterations);
+  EXPECT_EQ(restored.last_solve().cost, estimator.last_solve().cost);
 }
 
 // The paper's drift turns back (eq. 15): the change is declared and the estimate recovers.

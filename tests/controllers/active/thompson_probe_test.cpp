@@ -1,4 +1,4 @@
-#include "twincal/controllers/thompson_probe.hpp"
+#include "twincal/controllers/active/thompson_probe.hpp"
 
 #include <gtest/gtest.h>
 

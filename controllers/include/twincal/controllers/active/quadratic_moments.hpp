@@ -16,7 +16,7 @@
 
 #include <Eigen/Core>
 
-#include "twincal/controllers/quadratic_model.hpp"
+#include "twincal/controllers/active/quadratic_model.hpp"
 #include "twincal/core/eigen.hpp"
 
 namespace twincal {

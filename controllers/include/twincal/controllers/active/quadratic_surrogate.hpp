@@ -25,8 +25,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/active/quadratic_model.hpp"
 #include "twincal/controllers/controller_state_json.hpp"
-#include "twincal/controllers/quadratic_model.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"

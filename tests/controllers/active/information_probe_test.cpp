@@ -1,4 +1,4 @@
-#include "twincal/controllers/information_probe.hpp"
+#include "twincal/controllers/active/information_probe.hpp"
 
 #include <cmath>
 

@@ -53,9 +53,9 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
-#include "twincal/controllers/constant_velocity_options.hpp"
+#include "twincal/controllers/active/constant_velocity_options.hpp"
+#include "twincal/controllers/active/quadratic_model.hpp"
 #include "twincal/controllers/controller_state_json.hpp"
-#include "twincal/controllers/quadratic_model.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
@@ -79,24 +79,43 @@ class ConstantVelocityEstimator {
   ConstantVelocityEstimator(const VectorX& box_width, double measurement_variance,
                             const ConstantVelocityOptions& options = {});
 
+  /// How a fit's Gauss–Newton solve ended.
+  enum class SolveStatus {
+    none,            ///< no fit in this process yet (a restored estimator until it fits)
+    converged,       ///< the step fell below ConstantVelocityOptions::step_tolerance
+    no_descent,      ///< ten halvings of the step found no lower cost: a minimum to precision
+    max_iterations,  ///< ConstantVelocityOptions::max_iterations steps, each descending
+  };
+  /// The last solve of a fit (Ceres' TinySolver::Summary): how it ended, its accepted steps,
+  /// and its cost (data + prior) and data cost Σ e_k²/σ_k² at the estimate.
+  struct SolveSummary {
+    SolveStatus status = SolveStatus::none;
+    int iterations = 0;
+    double cost = 0.0;
+    double data_cost = 0.0;
+  };
+
   [[nodiscard]] Index dimension() const noexcept { return width_.size(); }
   [[nodiscard]] const ConstantVelocityOptions& options() const noexcept { return options_; }
   /// Assemblies in the history.
-  [[nodiscard]] Index history_size() const noexcept { return size_; }
+  [[nodiscard]] Index history_size() const noexcept { return history_.size; }
   /// Changes of velocity declared so far, and whether the last fit declared one.
-  [[nodiscard]] Index changes() const noexcept { return changes_; }
-  [[nodiscard]] bool changed() const noexcept { return changed_; }
+  [[nodiscard]] Index changes() const noexcept { return estimate_.changes; }
+  [[nodiscard]] bool changed() const noexcept { return estimate_.changed; }
   /// Whether the history shows an offset: the fit explains it better than δu = 0 by more than
   /// chance would (see ConstantVelocityOptions::significance).
-  [[nodiscard]] bool significant() const noexcept { return significant_; }
+  [[nodiscard]] bool significant() const noexcept { return estimate_.significant; }
   /// The assembly the last fit estimated, and its (a, b) and covariance.
-  [[nodiscard]] Index fit_time() const noexcept { return fit_time_; }
-  [[nodiscard]] const StateVector& state() const noexcept { return state_; }
-  [[nodiscard]] const StateMatrix& covariance() const noexcept { return covariance_; }
+  [[nodiscard]] Index fit_time() const noexcept { return estimate_.time; }
+  [[nodiscard]] const StateVector& state() const noexcept { return estimate_.state; }
+  [[nodiscard]] const StateMatrix& covariance() const noexcept { return estimate_.covariance; }
+  /// The solve that gave the last fit's estimate (of its starts, the best; after a change of
+  /// velocity, the restarted one). Diagnostic: not saved, so none after restore().
+  [[nodiscard]] const SolveSummary& last_solve() const noexcept { return last_solve_; }
   /// a, the offset at fit_time(), and its covariance.
-  [[nodiscard]] const OffsetVector& position() const noexcept { return position_; }
+  [[nodiscard]] const OffsetVector& position() const noexcept { return estimate_.position; }
   [[nodiscard]] const OffsetMatrix& position_covariance() const noexcept {
-    return position_covariance_;
+    return estimate_.position_covariance;
   }
 
   /// Forgets the history and starts from δu ~ N(position, position_covariance) at `time`, with
@@ -146,20 +165,21 @@ class ConstantVelocityEstimator {
   void entry_point(Index i, OffsetVector& point, OffsetVector& offset) const {
     const Index d = dimension();
     const Index s = slot(i);
-    const double tau = static_cast<double>(times_[static_cast<std::size_t>(s)] - fit_time_);
-    point = applied_.col(s) - state_.head(d) - tau * state_.tail(d);
-    offset = controls_.col(s) - state_.head(d) - tau * state_.tail(d);
+    const double tau =
+        static_cast<double>(history_.times[static_cast<std::size_t>(s)] - estimate_.time);
+    point = history_.applied.col(s) - estimate_.state.head(d) - tau * estimate_.state.tail(d);
+    offset = history_.controls.col(s) - estimate_.state.head(d) - tau * estimate_.state.tail(d);
   }
 
   /// τ² of entry i: its residual's variance beyond σz².
   [[nodiscard]] double entry_model_variance(Index i) const noexcept {
-    return model_variances_(slot(i));
+    return history_.model_variances(slot(i));
   }
 
   /// The Hessian entry i's model uses (as fitted, negative eigenvalues clipped at 0).
   [[nodiscard]] auto entry_hessian(Index i) const {
     const Index d = dimension();
-    return hessians_.middleCols(slot(i) * d, d);
+    return history_.hessians.middleCols(slot(i) * d, d);
   }
 
   /// Replaces entry i's model by `model` (refitted for the same assembly, e.g. at entry_point):
@@ -175,9 +195,9 @@ class ConstantVelocityEstimator {
   /// slot, so that every later sum runs over the same memory in the same order; an entry's H
   /// written once for a run of equal ones), the last H added as fitted, the estimates of the
   /// last change_lag + 1 fits, the prior, the estimate with its flags and counters, and the
-  /// misfit scales with their ring. Not the workspaces of a fit (Gauss–Newton buffers, shifted
-  /// prior, factorizations), which every fit rewrites before reading them, nor the weights
-  /// 1/(σz² + τ²), recomputed from τ².
+  /// misfit scales with their ring. Not last_solve(), nor the workspaces of a fit (Gauss–Newton
+  /// buffers, shifted prior, factorizations), which every fit rewrites before reading them, nor the
+  /// weights 1/(σz² + τ²), recomputed from τ².
   [[nodiscard]] nlohmann::json save() const;
 
   /// Restores a snapshot of save() into an estimator of the same box, σz² and options.
@@ -189,35 +209,38 @@ class ConstantVelocityEstimator {
   // Stores `hessian`, its negative eigenvalues clipped at 0, in ring slot i.
   void clip_hessian(const OffsetMatrix& hessian, Index i) {
     const Index d = dimension();
-    hessian_eigen_.compute(hessian);
-    if (hessian_eigen_.eigenvalues().minCoeff() < 0.0) {
-      hessians_.middleCols(i * d, d).noalias() =
-          hessian_eigen_.eigenvectors() * hessian_eigen_.eigenvalues().cwiseMax(0.0).asDiagonal() *
-          hessian_eigen_.eigenvectors().transpose();
+    work_.hessian_eigen.compute(hessian);
+    if (work_.hessian_eigen.eigenvalues().minCoeff() < 0.0) {
+      history_.hessians.middleCols(i * d, d).noalias() =
+          work_.hessian_eigen.eigenvectors() *
+          work_.hessian_eigen.eigenvalues().cwiseMax(0.0).asDiagonal() *
+          work_.hessian_eigen.eigenvectors().transpose();
     } else {
-      hessians_.middleCols(i * d, d) = hessian;
+      history_.hessians.middleCols(i * d, d) = hessian;
     }
   }
 
-  [[nodiscard]] Index slot(Index i) const noexcept { return (head_ + i) % options_.max_history; }
+  [[nodiscard]] Index slot(Index i) const noexcept {
+    return (history_.head + i) % options_.max_history;
+  }
   [[nodiscard]] Index time_of(Index i) const noexcept {
-    return times_[static_cast<std::size_t>(slot(i))];
+    return history_.times[static_cast<std::size_t>(slot(i))];
   }
 
-  // The prior moved from prior_time_ to `time` along the constant velocity: θ_t = M θ_p with
+  // The prior moved from prior_.time to `time` along the constant velocity: θ_t = M θ_p with
   // M = [I, Δ I; 0, I], Σ_t = M Σ_p Mᵀ, and its precision.
   void shift_prior(Index time) {
     const Index d = dimension();
-    const double delta = static_cast<double>(time - prior_time_);
-    shift_.topRightCorner(d, d).diagonal().setConstant(delta);
-    shifted_mean_.noalias() = shift_ * prior_mean_;
-    normal_.noalias() = shift_ * prior_covariance_;
-    shifted_covariance_.noalias() = normal_ * shift_.transpose();
-    symmetrize(shifted_covariance_);
+    const double delta = static_cast<double>(time - prior_.time);
+    work_.shift.topRightCorner(d, d).diagonal().setConstant(delta);
+    work_.shifted_mean.noalias() = work_.shift * prior_.mean;
+    work_.normal.noalias() = work_.shift * prior_.covariance;
+    work_.shifted_covariance.noalias() = work_.normal * work_.shift.transpose();
+    symmetrize(work_.shifted_covariance);
     cap_prior();
-    factor_.compute(shifted_covariance_);
-    prior_precision_ = factor_.solve(identity_);
-    symmetrize(prior_precision_);
+    work_.factor.compute(work_.shifted_covariance);
+    work_.prior_precision = work_.factor.solve(work_.identity);
+    symmetrize(work_.prior_precision);
   }
 
   // The prior never claims more uncertainty than the start's: in units of the start's standard
@@ -226,38 +249,40 @@ class ConstantVelocityEstimator {
   // let the velocity's uncertainty grow the offset's without bound, and the probes with it.
   void cap_prior() {
     const Index d = dimension();
-    prior_scale_.head(d) = options_.position_fraction * width_;
-    prior_scale_.tail(d) = options_.velocity_fraction * width_;
+    work_.prior_scale.head(d) = options_.position_fraction * width_;
+    work_.prior_scale.tail(d) = options_.velocity_fraction * width_;
     const bool beyond =
-        (shifted_covariance_.diagonal().array() > prior_scale_.array().square()).any();
+        (work_.shifted_covariance.diagonal().array() > work_.prior_scale.array().square()).any();
     if (!beyond) return;
-    normal_ = prior_scale_.cwiseInverse().asDiagonal() * shifted_covariance_ *
-              prior_scale_.cwiseInverse().asDiagonal();
-    state_eigen_.compute(normal_);
-    normal_.noalias() = state_eigen_.eigenvectors() *
-                        state_eigen_.eigenvalues().cwiseMin(1.0).asDiagonal() *
-                        state_eigen_.eigenvectors().transpose();
-    shifted_covariance_ = prior_scale_.asDiagonal() * normal_ * prior_scale_.asDiagonal();
+    work_.normal = work_.prior_scale.cwiseInverse().asDiagonal() * work_.shifted_covariance *
+                   work_.prior_scale.cwiseInverse().asDiagonal();
+    work_.state_eigen.compute(work_.normal);
+    work_.normal.noalias() = work_.state_eigen.eigenvectors() *
+                             work_.state_eigen.eigenvalues().cwiseMin(1.0).asDiagonal() *
+                             work_.state_eigen.eigenvectors().transpose();
+    work_.shifted_covariance =
+        work_.prior_scale.asDiagonal() * work_.normal * work_.prior_scale.asDiagonal();
   }
 
-  // z − m for history entry i (r = v − a − τ b); writes slope_ = ∂m/∂a. A non-positive model
+  // z − m for history entry i (r = v − a − τ b); writes work_.slope = ∂m/∂a. A non-positive model
   // value (a fitted H may be indefinite) is clamped, with a zero slope.
   double residual_at(Index i, const StateVector& state, Index time) {
     const Index d = dimension();
     const Index s = slot(i);
-    const double tau = static_cast<double>(times_[static_cast<std::size_t>(s)] - time);
-    error_ = controls_.col(s) - state.head(d) - tau * state.tail(d);
-    curvature_error_.noalias() = hessians_.middleCols(s * d, d) * error_;
-    const double squared =
-        values_(s) + 2.0 * half_gradients_.col(s).dot(error_) + error_.dot(curvature_error_);
-    const double floor = 1e-12 * (1.0 + std::abs(values_(s)));
+    const double tau = static_cast<double>(history_.times[static_cast<std::size_t>(s)] - time);
+    work_.error = history_.controls.col(s) - state.head(d) - tau * state.tail(d);
+    work_.curvature_error.noalias() = history_.hessians.middleCols(s * d, d) * work_.error;
+    const double squared = history_.values(s) +
+                           2.0 * history_.half_gradients.col(s).dot(work_.error) +
+                           work_.error.dot(work_.curvature_error);
+    const double floor = 1e-12 * (1.0 + std::abs(history_.values(s)));
     if (squared > floor) {
       const double model = std::sqrt(squared);
-      slope_ = -(half_gradients_.col(s) + curvature_error_) / model;
-      return qualities_(s) - model;
+      work_.slope = -(history_.half_gradients.col(s) + work_.curvature_error) / model;
+      return history_.qualities(s) - model;
     }
-    slope_.setZero();
-    return qualities_(s) - std::sqrt(floor);
+    work_.slope.setZero();
+    return history_.qualities(s) - std::sqrt(floor);
   }
 
   // Normalized residuals e_k/σ_k and their Jacobian of the history at `state`; returns the data
@@ -265,68 +290,74 @@ class ConstantVelocityEstimator {
   double evaluate(const StateVector& state, Index time, bool jacobian) {
     const Index d = dimension();
     double cost = 0.0;
-    for (Index i = 0; i < size_; ++i) {
-      const double scale = std::sqrt(weights_(slot(i)));
+    for (Index i = 0; i < history_.size; ++i) {
+      const double scale = std::sqrt(history_.weights(slot(i)));
       const double e = scale * residual_at(i, state, time);
-      residuals_(i) = e;
+      work_.residuals(i) = e;
       cost += e * e;
       if (jacobian) {
         const double tau = static_cast<double>(time_of(i) - time);
-        jacobian_.row(i).head(d) = scale * slope_.transpose();
-        jacobian_.row(i).tail(d) = (scale * tau) * slope_.transpose();
+        work_.jacobian.row(i).head(d) = scale * work_.slope.transpose();
+        work_.jacobian.row(i).tail(d) = (scale * tau) * work_.slope.transpose();
       }
     }
     return cost;
   }
 
-  // Gauss–Newton with step halving from `start`; writes the minimizer to `out` and returns the
-  // total cost (data_cost_ keeps its data part). The Gauss–Newton matrix at the estimate is
-  // formed once, by finish().
-  double solve(const StateVector& start, Index time, StateVector& out) {
+  // Gauss–Newton with step halving from `start`; writes the minimizer to `out`. The
+  // Gauss–Newton matrix at the estimate is formed once, by finish().
+  SolveSummary solve(const StateVector& start, Index time, StateVector& out) {
+    SolveSummary summary{.status = SolveStatus::max_iterations};
     out = start;
-    double data = evaluate(out, time, true);
-    double cost = data + prior_cost(out);
+    summary.data_cost = evaluate(out, time, true);
+    summary.cost = summary.data_cost + prior_cost(out);
     for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
       assemble(out);
-      step_ = factor_.solve(gradient_);
+      work_.step = work_.factor.solve(work_.gradient);
       double scale = 1.0;
       bool improved = false;
       for (int halving = 0; halving < 10 && !improved; ++halving) {
         if (halving > 0) scale *= 0.5;
-        trial_ = out + scale * step_;
-        const double trial_data = evaluate(trial_, time, false);
-        const double trial_cost = trial_data + prior_cost(trial_);
-        if (trial_cost <= cost) {
+        work_.trial = out + scale * work_.step;
+        const double trial_data = evaluate(work_.trial, time, false);
+        const double trial_cost = trial_data + prior_cost(work_.trial);
+        if (trial_cost <= summary.cost) {
           improved = true;
-          data = trial_data;
-          cost = trial_cost;
+          summary.data_cost = trial_data;
+          summary.cost = trial_cost;
         }
       }
-      if (!improved) break;
-      out = trial_;
-      if (scale * step_.norm() <= options_.step_tolerance * (1.0 + out.norm())) break;
+      if (!improved) {
+        summary.status = SolveStatus::no_descent;
+        break;
+      }
+      out = work_.trial;
+      summary.iterations = iteration + 1;
+      if (scale * work_.step.norm() <= options_.step_tolerance * (1.0 + out.norm())) {
+        summary.status = SolveStatus::converged;
+        break;
+      }
       if (iteration + 1 < options_.max_iterations) evaluate(out, time, true);  // for assemble()
     }
-    data_cost_ = data;
-    return cost;
+    return summary;
   }
 
   double prior_cost(const StateVector& state) {
-    difference_ = state - shifted_mean_;
-    weighted_difference_.noalias() = prior_precision_ * difference_;
-    return difference_.dot(weighted_difference_);
+    work_.difference = state - work_.shifted_mean;
+    work_.weighted_difference.noalias() = work_.prior_precision * work_.difference;
+    return work_.difference.dot(work_.weighted_difference);
   }
 
-  // normal_ = JᵀJ + Λ, gradient_ = Jᵀe − Λ(θ − μ) (J and e normalized by σ_k), factored; needs
-  // evaluate(·, true).
+  // work_.normal = JᵀJ + Λ, work_.gradient = Jᵀe − Λ(θ − μ) (J and e normalized by σ_k), factored;
+  // needs evaluate(·, true).
   void assemble(const StateVector& state) {
-    const Index n = size_;
-    normal_ = prior_precision_;
-    normal_.noalias() += jacobian_.topRows(n).transpose() * jacobian_.topRows(n);
+    const Index n = history_.size;
+    work_.normal = work_.prior_precision;
+    work_.normal.noalias() += work_.jacobian.topRows(n).transpose() * work_.jacobian.topRows(n);
     prior_cost(state);
-    gradient_ = -weighted_difference_;
-    gradient_.noalias() += jacobian_.topRows(n).transpose() * residuals_.head(n);
-    factor_.compute(normal_);
+    work_.gradient = -work_.weighted_difference;
+    work_.gradient.noalias() += work_.jacobian.topRows(n).transpose() * work_.residuals.head(n);
+    work_.factor.compute(work_.normal);
   }
 
   // The root-mean-square normalized residual of the last change_window assemblies beyond the
@@ -334,9 +365,9 @@ class ConstantVelocityEstimator {
   bool recent_misfit(const StateVector& state, Index time) {
     const Index window = options_.change_window;
     double sum = 0.0;
-    for (Index i = size_ - window; i < size_; ++i) {
+    for (Index i = history_.size - window; i < history_.size; ++i) {
       const double e = residual_at(i, state, time);
-      sum += weights_(slot(i)) * e * e;
+      sum += history_.weights(slot(i)) * e * e;
     }
     const double mean = sum / static_cast<double>(window);
     return mean > options_.change_gate * options_.change_gate * model_misfit_.scale();
@@ -348,88 +379,166 @@ class ConstantVelocityEstimator {
     const Index d = dimension();
     const Index lags = options_.change_lag + 1;
     // The oldest snapshot kept is change_lag fits ago (or the first, early on).
-    const Index oldest = snapshots_ < lags ? 0 : snapshots_ % lags;
-    const Index restart_time = snapshot_times_[static_cast<std::size_t>(oldest)];
-    velocity_ = snapshot_states_.col(oldest).tail(d);
-    prior_mean_.head(d) = snapshot_states_.col(oldest).head(d);
-    prior_mean_.tail(d).setZero();
-    prior_covariance_.setZero();
-    prior_covariance_.topLeftCorner(d, d) =
-        snapshot_covariances_.middleCols(oldest * d, d) +
-        options_.change_position_spread * velocity_ * velocity_.transpose();
-    prior_covariance_.bottomRightCorner(d, d) =
-        options_.change_velocity_spread * velocity_ * velocity_.transpose();
-    prior_covariance_.diagonal().tail(d) +=
+    const Index oldest = fits_.count < lags ? 0 : fits_.count % lags;
+    const Index restart_time = fits_.times[static_cast<std::size_t>(oldest)];
+    work_.velocity = fits_.states.col(oldest).tail(d);
+    prior_.mean.head(d) = fits_.states.col(oldest).head(d);
+    prior_.mean.tail(d).setZero();
+    prior_.covariance.setZero();
+    prior_.covariance.topLeftCorner(d, d) =
+        fits_.covariances.middleCols(oldest * d, d) +
+        options_.change_position_spread * work_.velocity * work_.velocity.transpose();
+    prior_.covariance.bottomRightCorner(d, d) =
+        options_.change_velocity_spread * work_.velocity * work_.velocity.transpose();
+    prior_.covariance.diagonal().tail(d) +=
         (options_.change_velocity_floor_fraction * width_).array().square().matrix();
-    prior_time_ = restart_time;
-    while (size_ > 0 && time_of(0) < restart_time) {
-      head_ = (head_ + 1) % options_.max_history;
-      --size_;
+    prior_.time = restart_time;
+    while (history_.size > 0 && time_of(0) < restart_time) {
+      history_.head = (history_.head + 1) % options_.max_history;
+      --history_.size;
     }
     shift_prior(time);
   }
 
-  // The covariance (the inverse Gauss–Newton matrix at state_), the position and a snapshot.
+  // The covariance (the inverse Gauss–Newton matrix at estimate_.state), the position and a
+  // snapshot.
   void finish(Index time) {
     const Index d = dimension();
     // Significance: the fit against "no offset", Δ = cost(0) − cost(θ̂) over the history, which
     // is χ² with 2d degrees of freedom when there is none; beyond its mean + k·sd it is real.
-    trial_.setZero();
-    const double no_offset = evaluate(trial_, time, false);
-    const double fitted = evaluate(state_, time, true);  // and the Gauss–Newton matrix there
+    work_.trial.setZero();
+    const double no_offset = evaluate(work_.trial, time, false);
+    const double fitted =
+        evaluate(estimate_.state, time, true);  // and the Gauss–Newton matrix there
     const double dof = static_cast<double>(2 * d);
-    significant_ = (no_offset - fitted) / model_misfit_.scale() >
-                   dof + options_.significance * std::sqrt(2.0 * dof);
-    assemble(state_);
-    covariance_ = factor_.solve(identity_);
-    symmetrize(covariance_);
-    position_ = state_.head(d);
-    position_covariance_ = covariance_.topLeftCorner(d, d);
-    fit_time_ = time;
-    fitted_ = true;
+    estimate_.significant = (no_offset - fitted) / model_misfit_.scale() >
+                            dof + options_.significance * std::sqrt(2.0 * dof);
+    assemble(estimate_.state);
+    estimate_.covariance = work_.factor.solve(work_.identity);
+    symmetrize(estimate_.covariance);
+    estimate_.position = estimate_.state.head(d);
+    estimate_.position_covariance = estimate_.covariance.topLeftCorner(d, d);
+    estimate_.time = time;
+    estimate_.fitted = true;
     const Index lags = options_.change_lag + 1;
-    const Index i = snapshots_ % lags;
-    snapshot_times_[static_cast<std::size_t>(i)] = time;
-    snapshot_states_.col(i) = state_;
-    snapshot_covariances_.middleCols(i * d, d) = position_covariance_;
-    ++snapshots_;
+    const Index i = fits_.count % lags;
+    fits_.times[static_cast<std::size_t>(i)] = time;
+    fits_.states.col(i) = estimate_.state;
+    fits_.covariances.middleCols(i * d, d) = estimate_.position_covariance;
+    ++fits_.count;
   }
+
+  // The state save() writes, in four parts that restore() reads whole and commits at once.
+  // The history: a ring of max_history entries from slot `head`, `size` of them in use.
+  struct History {
+    std::vector<Index> times;
+    Matrix<N, Dynamic> controls;  // u_k − v_k, v_k the centre of entry k's model
+    Matrix<N, Dynamic> applied;   // u_k
+    VectorX values;
+    Matrix<N, Dynamic> half_gradients;
+    Matrix<N, Dynamic> hessians;  // d × d blocks side by side
+    VectorX qualities;
+    VectorX weights;          // 1/(σz² + τ_k²)
+    VectorX model_variances;  // τ_k²
+    Index head = 0;
+    Index size = 0;
+  };
+  // The estimates of the last change_lag + 1 fits (`count` fits so far), at slot count mod lags.
+  struct FitSnapshots {
+    std::vector<Index> times;
+    Matrix<state_size, Dynamic> states;
+    Matrix<N, Dynamic> covariances;
+    Index count = 0;
+  };
+  // The prior at `time`.
+  struct Prior {
+    StateVector mean;
+    StateMatrix covariance;
+    Index time = 0;
+  };
+  // The estimate at `time`, (a, b) and its covariance, with the flags of the fit that gave it.
+  struct Estimate {
+    StateVector state;
+    StateMatrix covariance;
+    OffsetVector position;
+    OffsetMatrix position_covariance;
+    Index time = 0;
+    bool fitted = false;
+    Index changes = 0;
+    bool changed = false;
+    bool significant = false;
+  };
+
+  // The scratch of a fit, sized once by the constructor (no allocation per step): every fit
+  // writes each of them before it reads it, so none is state (save() leaves them out).
+  struct Workspace {
+    void resize(Index d, Index capacity) {
+      const Index s = 2 * d;
+      shift.setIdentity(s, s);
+      shifted_mean.resize(s);
+      shifted_covariance.resize(s, s);
+      prior_precision.resize(s, s);
+      identity = StateMatrix::Identity(s, s);
+      prior_scale.resize(s);
+      trial.resize(s);
+      candidate.resize(s);
+      best.resize(s);
+      start.resize(s);
+      step.resize(s);
+      gradient.resize(s);
+      difference.resize(s);
+      weighted_difference.resize(s);
+      normal.resize(s, s);
+      jacobian.resize(capacity, s);
+      residuals.resize(capacity);
+      error.resize(d);
+      curvature_error.resize(d);
+      hessian_covariance.resize(d, d);
+      slope.resize(d);
+      velocity.resize(d);
+      factor = Eigen::LDLT<StateMatrix>(s);
+      hessian_eigen = Eigen::SelfAdjointEigenSolver<OffsetMatrix>(d);
+      state_eigen = Eigen::SelfAdjointEigenSolver<StateMatrix>(s);
+    }
+
+    // The prior moved to the fit's time (shift_prior) and its precision.
+    StateMatrix shift;
+    StateVector shifted_mean;
+    StateMatrix shifted_covariance;
+    StateMatrix prior_precision;
+    StateMatrix identity;
+    StateVector prior_scale;
+    // Gauss–Newton: starts, trial steps, the normal equations and their factorization.
+    StateVector trial;
+    StateVector candidate;
+    StateVector best;
+    StateVector start;
+    StateVector step;
+    StateVector gradient;
+    StateVector difference;
+    StateVector weighted_difference;
+    StateMatrix normal;
+    Matrix<Dynamic, state_size> jacobian;
+    VectorX residuals;
+    Eigen::LDLT<StateMatrix> factor;
+    // One entry's residual and slope, and the eigensolvers of H and of the prior's cap.
+    OffsetVector error;
+    OffsetVector curvature_error;
+    OffsetMatrix hessian_covariance;
+    OffsetVector slope;
+    OffsetVector velocity;
+    Eigen::SelfAdjointEigenSolver<OffsetMatrix> hessian_eigen;
+    Eigen::SelfAdjointEigenSolver<StateMatrix> state_eigen;
+  };
 
   ConstantVelocityOptions options_;
   double measurement_variance_;
   VectorX width_;
-  // The history, a ring of max_history assemblies starting at head_.
-  std::vector<Index> times_;
-  Matrix<N, Dynamic> controls_;  // u_k − v_k, v_k the centre of entry k's model
-  Matrix<N, Dynamic> applied_;   // u_k
-  VectorX values_;
-  Matrix<N, Dynamic> half_gradients_;
-  Matrix<N, Dynamic> hessians_;  // d × d blocks side by side
-  VectorX qualities_;
-  VectorX weights_;          // 1/(σz² + τ_k²)
-  VectorX model_variances_;  // τ_k²
-  Index head_ = 0;
-  Index size_ = 0;
-  // The estimates of the last change_lag + 1 fits.
-  std::vector<Index> snapshot_times_;
-  Matrix<state_size, Dynamic> snapshot_states_;
-  Matrix<N, Dynamic> snapshot_covariances_;
-  Index snapshots_ = 0;
-  // The prior, at prior_time_.
-  StateVector prior_mean_;
-  StateMatrix prior_covariance_;
-  Index prior_time_ = 0;
-  // The estimate.
-  StateVector state_;
-  StateMatrix covariance_;
-  OffsetVector position_;
-  OffsetMatrix position_covariance_;
-  Index fit_time_ = 0;
-  bool fitted_ = false;
-  Index changes_ = 0;
-  bool changed_ = false;
-  bool significant_ = false;
-  double data_cost_ = 0.0;
+  // The history, a ring of max_history assemblies starting at history_.head.
+  History history_;
+  FitSnapshots fits_;
+  Prior prior_;
+  Estimate estimate_;
   // The median of the last n normalized innovations ν²/S over χ²(1)'s median (0.4549), at least
   // 1 — not before half of n are in: the first innovations also carry the start's error (a
   // start far from the offset would otherwise gate off the changes that recover from it).
@@ -490,39 +599,15 @@ class ConstantVelocityEstimator {
   static constexpr double chi2_median = 0.4549;  // of χ²(1)
   MedianMisfit model_misfit_;                    // entries whose model errs: misfit_scale()
   MedianMisfit prediction_misfit_;               // every entry: prediction_scale()
-  // Workspaces, sized once.
-  StateMatrix shift_;
-  StateVector shifted_mean_;
-  StateMatrix shifted_covariance_;
-  StateMatrix prior_precision_;
-  StateMatrix identity_;
-  StateVector trial_;
-  StateVector candidate_;
-  StateVector best_;
-  StateVector start_;
-  StateVector step_;
-  StateVector gradient_;
-  StateVector difference_;
-  StateVector weighted_difference_;
-  StateMatrix normal_;
-  Matrix<Dynamic, state_size> jacobian_;
-  VectorX residuals_;
-  OffsetVector error_;
-  OffsetVector curvature_error_;
-  OffsetMatrix hessian_covariance_;
-  OffsetVector slope_;
-  OffsetVector velocity_;
-  Eigen::LDLT<StateMatrix> factor_;
-  Eigen::SelfAdjointEigenSolver<OffsetMatrix> hessian_eigen_;
-  OffsetMatrix last_hessian_;  // the last H added, as fitted
-  StateVector prior_scale_;
-  Eigen::SelfAdjointEigenSolver<StateMatrix> state_eigen_;
+  OffsetMatrix last_hessian_;                    // the last H added, as fitted
+  SolveSummary last_solve_;
+  Workspace work_;
 };
 
 // The members that do the work are defined out of the class, so not inline: for the sizes
 // declared `extern template` at the end of this file, the files that include it do not
 // instantiate them (with their Gauss–Newton solve, factorizations and eigensolvers), but link
-// the instantiations compiled once in controllers' src/constant_velocity_estimator.cpp.
+// the instantiations compiled once in controllers' src/active/constant_velocity_estimator.cpp.
 
 template <int N>
 ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width,
@@ -530,10 +615,7 @@ ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width
                                                         const ConstantVelocityOptions& options)
     : options_((require_valid("ConstantVelocityOptions", options), options)),
       measurement_variance_(measurement_variance),
-      width_(box_width),
-      factor_(2 * box_width.size()),
-      hessian_eigen_(box_width.size()),
-      state_eigen_(2 * box_width.size()) {
+      width_(box_width) {
   require_finite("box_width", width_);
   if (!(width_.size() > 0) || !(width_.minCoeff() > 0.0)) {
     throw InvalidArgumentError("box_width",
@@ -545,47 +627,26 @@ ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width
   if constexpr (N != Dynamic) require_dimension("box_width", d, N);
   const Index s = 2 * d;
   const Index capacity = options_.max_history;
-  times_.assign(static_cast<std::size_t>(capacity), 0);
-  controls_.resize(d, capacity);
-  applied_.resize(d, capacity);
-  values_.resize(capacity);
-  half_gradients_.resize(d, capacity);
-  hessians_.resize(d, d * capacity);
-  qualities_.resize(capacity);
-  weights_.resize(capacity);
-  model_variances_.resize(capacity);
+  history_.times.assign(static_cast<std::size_t>(capacity), 0);
+  history_.controls.resize(d, capacity);
+  history_.applied.resize(d, capacity);
+  history_.values.resize(capacity);
+  history_.half_gradients.resize(d, capacity);
+  history_.hessians.resize(d, d * capacity);
+  history_.qualities.resize(capacity);
+  history_.weights.resize(capacity);
+  history_.model_variances.resize(capacity);
   const Index lags = options_.change_lag + 1;
-  snapshot_times_.assign(static_cast<std::size_t>(lags), 0);
-  snapshot_states_.resize(s, lags);
-  snapshot_covariances_.resize(d, d * lags);
-  prior_mean_.resize(s);
-  prior_covariance_.resize(s, s);
-  state_.setZero(s);
-  covariance_.setIdentity(s, s);
-  shift_.setIdentity(s, s);
-  shifted_mean_.resize(s);
-  shifted_covariance_.resize(s, s);
-  prior_precision_.resize(s, s);
-  identity_ = StateMatrix::Identity(s, s);
-  trial_.resize(s);
-  candidate_.resize(s);
-  best_.resize(s);
-  start_.resize(s);
-  step_.resize(s);
-  gradient_.resize(s);
-  difference_.resize(s);
-  weighted_difference_.resize(s);
-  normal_.resize(s, s);
-  jacobian_.resize(capacity, s);
-  residuals_.resize(capacity);
-  error_.resize(d);
-  curvature_error_.resize(d);
-  hessian_covariance_.resize(d, d);
-  slope_.resize(d);
-  velocity_.resize(d);
-  position_.resize(d);
-  position_covariance_.resize(d, d);
-  prior_scale_.resize(s);
+  fits_.times.assign(static_cast<std::size_t>(lags), 0);
+  fits_.states.resize(s, lags);
+  fits_.covariances.resize(d, d * lags);
+  prior_.mean.resize(s);
+  prior_.covariance.resize(s, s);
+  estimate_.state.setZero(s);
+  estimate_.covariance.setIdentity(s, s);
+  work_.resize(d, capacity);
+  estimate_.position.resize(d);
+  estimate_.position_covariance.resize(d, d);
   last_hessian_.resize(d, d);
   model_misfit_.resize(options_.misfit_window);
   prediction_misfit_.resize(options_.misfit_window);
@@ -599,21 +660,21 @@ void ConstantVelocityEstimator<N>::reset(Index time, const OffsetVector& positio
   require_finite("position", position);
   require_shape("position_covariance", position_covariance, d, d);
   require_positive_definite("position_covariance", position_covariance);
-  prior_mean_.head(d) = position;
-  prior_mean_.tail(d).setZero();
-  prior_covariance_.setZero();
-  prior_covariance_.topLeftCorner(d, d) = position_covariance;
-  prior_covariance_.diagonal().tail(d) =
+  prior_.mean.head(d) = position;
+  prior_.mean.tail(d).setZero();
+  prior_.covariance.setZero();
+  prior_.covariance.topLeftCorner(d, d) = position_covariance;
+  prior_.covariance.diagonal().tail(d) =
       (options_.velocity_fraction * width_).array().square().matrix();
-  prior_time_ = time;
-  size_ = 0;
-  head_ = 0;
-  snapshots_ = 0;
+  prior_.time = time;
+  history_.size = 0;
+  history_.head = 0;
+  fits_.count = 0;
   model_misfit_.clear();
   prediction_misfit_.clear();
-  changes_ = 0;
-  changed_ = false;
-  fitted_ = false;
+  estimate_.changes = 0;
+  estimate_.changed = false;
+  estimate_.fitted = false;
   fit(time);
 }
 
@@ -628,42 +689,44 @@ double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& mo
   require_finite("z", z);
   require_finite("model_variance", model_variance);
   require_non_negative("model_variance", model_variance);
-  if (size_ > 0 && time < time_of(size_ - 1)) {
+  if (history_.size > 0 && time < time_of(history_.size - 1)) {
     throw InvalidArgumentError(
         "time", fmt::format("time: value is {}; rule: must be >= the last time in the history, "
                             "{}",
-                            time, time_of(size_ - 1)));
+                            time, time_of(history_.size - 1)));
   }
-  if (!fitted_ || fit_time_ != time) fit(time);
+  if (!estimate_.fitted || estimate_.time != time) fit(time);
 
-  if (size_ == options_.max_history) {  // the oldest assembly leaves the ring
-    head_ = (head_ + 1) % options_.max_history;
-    --size_;
+  if (history_.size == options_.max_history) {  // the oldest assembly leaves the ring
+    history_.head = (history_.head + 1) % options_.max_history;
+    --history_.size;
   }
-  const Index i = slot(size_);
-  times_[static_cast<std::size_t>(i)] = time;
-  controls_.col(i) = control - model.center;
-  applied_.col(i) = control;
-  values_(i) = model.value;
-  half_gradients_.col(i) = model.half_gradient;
+  const Index i = slot(history_.size);
+  history_.times[static_cast<std::size_t>(i)] = time;
+  history_.controls.col(i) = control - model.center;
+  history_.applied.col(i) = control;
+  history_.values(i) = model.value;
+  history_.half_gradients.col(i) = model.half_gradient;
   // H as fitted may have tiny negative eigenvalues (finite differences along directions the
   // quality ignores); along them the fit would run away, so they are clipped at 0. The
   // surrogate keeps H for many assemblies: an unchanged H reuses the previous entry's.
-  if (size_ > 0 && model.hessian == last_hessian_) {
-    hessians_.middleCols(i * d, d) = hessians_.middleCols(slot(size_ - 1) * d, d);
+  if (history_.size > 0 && model.hessian == last_hessian_) {
+    history_.hessians.middleCols(i * d, d) =
+        history_.hessians.middleCols(slot(history_.size - 1) * d, d);
   } else {
     last_hessian_ = model.hessian;
     clip_hessian(last_hessian_, i);
   }
-  qualities_(i) = z;
-  weights_(i) = 1.0 / (measurement_variance_ + model_variance);
-  model_variances_(i) = model_variance;
-  ++size_;
+  history_.qualities(i) = z;
+  history_.weights(i) = 1.0 / (measurement_variance_ + model_variance);
+  history_.model_variances(i) = model_variance;
+  ++history_.size;
 
-  // The innovation of z against the prediction at `time` (a = position_, τ = 0).
-  const double residual = residual_at(size_ - 1, state_, time);
-  curvature_error_.noalias() = position_covariance_ * slope_;
-  const double variance = 1.0 / weights_(slot(size_ - 1)) + slope_.dot(curvature_error_);
+  // The innovation of z against the prediction at `time` (a = estimate_.position, τ = 0).
+  const double residual = residual_at(history_.size - 1, estimate_.state, time);
+  work_.curvature_error.noalias() = estimate_.position_covariance * work_.slope;
+  const double variance =
+      1.0 / history_.weights(slot(history_.size - 1)) + work_.slope.dot(work_.curvature_error);
   const double normalized = residual * residual / variance;
   // The gate's scale counts only entries whose model errs (τ² > 0): an exact model's misfit is
   // the estimate's own error or a change of velocity, which is what the gate is there to see
@@ -677,10 +740,11 @@ double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& mo
     // Without it a plant that is the twin passes audit_misfit at d ≥ 12 (its estimate errs
     // along directions the first-order slope does not see).
     const double predicted = std::max(z - residual, std::numeric_limits<double>::min());
-    hessian_covariance_.noalias() =
-        hessians_.middleCols(slot(size_ - 1) * d, d) * position_covariance_;
+    work_.hessian_covariance.noalias() =
+        history_.hessians.middleCols(slot(history_.size - 1) * d, d) *
+        estimate_.position_covariance;
     const double second_order =
-        hessian_covariance_.cwiseProduct(hessian_covariance_.transpose()).sum() /
+        work_.hessian_covariance.cwiseProduct(work_.hessian_covariance.transpose()).sum() /
         (2.0 * predicted * predicted);
     prediction_misfit_.add(residual * residual / (variance + second_order));
   }
@@ -690,40 +754,42 @@ double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& mo
 template <int N>
 void ConstantVelocityEstimator<N>::fit(Index time) {
   const Index d = dimension();
-  changed_ = false;
+  estimate_.changed = false;
   shift_prior(time);
   // Warm start: the last estimate moved to `time` with its velocity.
-  if (fitted_) {
-    start_ = state_;
-    start_.head(d) += static_cast<double>(time - fit_time_) * state_.tail(d);
+  if (estimate_.fitted) {
+    work_.start = estimate_.state;
+    work_.start.head(d) += static_cast<double>(time - estimate_.time) * estimate_.state.tail(d);
   } else {
-    start_ = shifted_mean_;
+    work_.start = work_.shifted_mean;
   }
-  double cost = solve(start_, time, best_);
-  if (data_cost_ > static_cast<double>(size_) * options_.change_gate * options_.change_gate) {
+  SolveSummary best = solve(work_.start, time, work_.best);
+  if (best.data_cost >
+      static_cast<double>(history_.size) * options_.change_gate * options_.change_gate) {
     // The warm start explains the data badly: also try its mirror image and the prior mean.
     for (int candidate = 0; candidate < 2; ++candidate) {
       if (candidate == 0) {
-        start_ = -start_;
+        work_.start = -work_.start;
       } else {
-        start_ = shifted_mean_;
+        work_.start = work_.shifted_mean;
       }
-      // Not into trial_: solve() uses it for its trial steps.
-      const double candidate_cost = solve(start_, time, candidate_);
-      if (candidate_cost < cost) {
-        cost = candidate_cost;
-        best_ = candidate_;
+      // Not into work_.trial: solve() uses it for its trial steps.
+      const SolveSummary tried = solve(work_.start, time, work_.candidate);
+      if (tried.cost < best.cost) {
+        best = tried;
+        work_.best = work_.candidate;
       }
     }
   }
-  if (size_ > options_.change_window + 2 && recent_misfit(best_, time)) {
+  if (history_.size > options_.change_window + 2 && recent_misfit(work_.best, time)) {
     restart_at_change(time);
-    start_ = best_;
-    solve(start_, time, best_);
-    changed_ = true;
-    ++changes_;
+    work_.start = work_.best;
+    best = solve(work_.start, time, work_.best);
+    estimate_.changed = true;
+    ++estimate_.changes;
   }
-  state_ = best_;
+  last_solve_ = best;
+  estimate_.state = work_.best;
   finish(time);
 }
 
@@ -731,9 +797,10 @@ template <int N>
 void ConstantVelocityEstimator<N>::relinearize(Index i, const QuadraticModel<N>& model,
                                                double model_variance) {
   const Index d = dimension();
-  if (i < 0 || i >= size_) {
+  if (i < 0 || i >= history_.size) {
     throw InvalidArgumentError(
-        "i", fmt::format("i: value is {}; rule: must lie in [0, {}) (the history)", i, size_));
+        "i",
+        fmt::format("i: value is {}; rule: must lie in [0, {}) (the history)", i, history_.size));
   }
   require_dimension("model", model.dimension(), d);
   require_finite("model.center", model.center);
@@ -743,12 +810,12 @@ void ConstantVelocityEstimator<N>::relinearize(Index i, const QuadraticModel<N>&
   require_finite("model_variance", model_variance);
   require_non_negative("model_variance", model_variance);
   const Index s = slot(i);
-  controls_.col(s) = applied_.col(s) - model.center;
-  values_(s) = model.value;
-  half_gradients_.col(s) = model.half_gradient;
+  history_.controls.col(s) = history_.applied.col(s) - model.center;
+  history_.values(s) = model.value;
+  history_.half_gradients.col(s) = model.half_gradient;
   clip_hessian(model.hessian, s);
-  weights_(s) = 1.0 / (measurement_variance_ + model_variance);
-  model_variances_(s) = model_variance;
+  history_.weights(s) = 1.0 / (measurement_variance_ + model_variance);
+  history_.model_variances(s) = model_variance;
 }
 
 template <int N>
@@ -759,49 +826,50 @@ nlohmann::json ConstantVelocityEstimator<N>::save() const {
   const Index d = dimension();
   nlohmann::json history = nlohmann::json::array();
   nlohmann::json hessians = nlohmann::json::array();
-  for (Index i = 0; i < size_; ++i) {
+  for (Index i = 0; i < history_.size; ++i) {
     const Index s = slot(i);
-    if (i == 0 || hessians_.middleCols(s * d, d) != hessians_.middleCols(slot(i - 1) * d, d)) {
-      hessians.push_back(matrix_to_json(hessians_.middleCols(s * d, d)));
+    if (i == 0 || history_.hessians.middleCols(s * d, d) !=
+                      history_.hessians.middleCols(slot(i - 1) * d, d)) {
+      hessians.push_back(matrix_to_json(history_.hessians.middleCols(s * d, d)));
     }
-    history.push_back({{"time", times_[static_cast<std::size_t>(s)]},
-                       {"applied", doubles_to_json(applied_.col(s))},
-                       {"control", doubles_to_json(controls_.col(s))},
-                       {"value", number_to_json(values_(s))},
-                       {"half_gradient", doubles_to_json(half_gradients_.col(s))},
+    history.push_back({{"time", history_.times[static_cast<std::size_t>(s)]},
+                       {"applied", doubles_to_json(history_.applied.col(s))},
+                       {"control", doubles_to_json(history_.controls.col(s))},
+                       {"value", number_to_json(history_.values(s))},
+                       {"half_gradient", doubles_to_json(history_.half_gradients.col(s))},
                        {"hessian", hessians.size() - 1},
-                       {"quality", number_to_json(qualities_(s))},
-                       {"model_variance", number_to_json(model_variances_(s))}});
+                       {"quality", number_to_json(history_.qualities(s))},
+                       {"model_variance", number_to_json(history_.model_variances(s))}});
   }
   nlohmann::json snapshots = nlohmann::json::array();
-  const Index kept_snapshots = std::min<Index>(snapshots_, options_.change_lag + 1);
+  const Index kept_snapshots = std::min<Index>(fits_.count, options_.change_lag + 1);
   for (Index i = 0; i < kept_snapshots; ++i) {
-    snapshots.push_back(
-        {{"time", snapshot_times_[static_cast<std::size_t>(i)]},
-         {"state", doubles_to_json(snapshot_states_.col(i))},
-         {"covariance", matrix_to_json(snapshot_covariances_.middleCols(i * d, d))}});
+    snapshots.push_back({{"time", fits_.times[static_cast<std::size_t>(i)]},
+                         {"state", doubles_to_json(fits_.states.col(i))},
+                         {"covariance", matrix_to_json(fits_.covariances.middleCols(i * d, d))}});
   }
-  return {{"format", json_format},
-          {"dimension", d},
-          {"max_history", options_.max_history},
-          {"head", head_},
-          {"history", std::move(history)},
-          {"hessians", std::move(hessians)},
-          {"last_hessian", size_ > 0 ? matrix_to_json(last_hessian_) : nlohmann::json(nullptr)},
-          {"snapshot_count", snapshots_},
-          {"snapshots", std::move(snapshots)},
-          {"prior_mean", doubles_to_json(prior_mean_)},
-          {"prior_covariance", matrix_to_json(prior_covariance_)},
-          {"prior_time", prior_time_},
-          {"state", doubles_to_json(state_)},
-          {"covariance", matrix_to_json(covariance_)},
-          {"fit_time", fit_time_},
-          {"fitted", fitted_},
-          {"changes", changes_},
-          {"changed", changed_},
-          {"significant", significant_},
-          {"misfit", model_misfit_.save()},
-          {"prediction_misfit", prediction_misfit_.save()}};
+  return {
+      {"format", json_format},
+      {"dimension", d},
+      {"max_history", options_.max_history},
+      {"head", history_.head},
+      {"history", std::move(history)},
+      {"hessians", std::move(hessians)},
+      {"last_hessian", history_.size > 0 ? matrix_to_json(last_hessian_) : nlohmann::json(nullptr)},
+      {"snapshot_count", fits_.count},
+      {"snapshots", std::move(snapshots)},
+      {"prior_mean", doubles_to_json(prior_.mean)},
+      {"prior_covariance", matrix_to_json(prior_.covariance)},
+      {"prior_time", prior_.time},
+      {"state", doubles_to_json(estimate_.state)},
+      {"covariance", matrix_to_json(estimate_.covariance)},
+      {"fit_time", estimate_.time},
+      {"fitted", estimate_.fitted},
+      {"changes", estimate_.changes},
+      {"changed", estimate_.changed},
+      {"significant", estimate_.significant},
+      {"misfit", model_misfit_.save()},
+      {"prediction_misfit", prediction_misfit_.save()}};
 }
 
 template <int N>
@@ -818,92 +886,89 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   require_dimension("max_history", read_integer_field(saved, "max_history"), capacity);
   const Index head = read_integer_field(saved, "head", 0, capacity - 1);
 
-  // The history into copies of the ring buffers, each entry at its slot.
+  // The history into a copy of the ring, each entry at its slot.
   const nlohmann::json& hessians = json_state::require_array(field(saved, "hessians"), "hessians");
-  const nlohmann::json& history = json_state::require_array(field(saved, "history"), "history");
-  const auto size = static_cast<Index>(history.size());
-  if (size > capacity) {
-    throw InvalidArgumentError(
-        "history",
-        fmt::format("history: has {} entries; rule: at most max_history, {}", size, capacity));
+  const nlohmann::json& entries = json_state::require_array(field(saved, "history"), "history");
+  History history = history_;
+  history.head = head;
+  history.size = static_cast<Index>(entries.size());
+  if (history.size > capacity) {
+    throw InvalidArgumentError("history",
+                               fmt::format("history: has {} entries; rule: at most max_history, {}",
+                                           history.size, capacity));
   }
-  std::vector<Index> times = times_;
-  Matrix<N, Dynamic> controls = controls_;
-  Matrix<N, Dynamic> applied = applied_;
-  VectorX values = values_;
-  Matrix<N, Dynamic> half_gradients = half_gradients_;
-  Matrix<N, Dynamic> ring_hessians = hessians_;
-  VectorX qualities = qualities_;
-  VectorX weights = weights_;
-  VectorX model_variances = model_variances_;
   OffsetVector column(d);
   OffsetMatrix hessian(d, d);
-  for (Index i = 0; i < size; ++i) {
+  for (Index i = 0; i < history.size; ++i) {
     json_state::within(fmt::format("history[{}]", i), [&] {
-      const nlohmann::json& entry = history[static_cast<std::size_t>(i)];
+      const nlohmann::json& entry = entries[static_cast<std::size_t>(i)];
       const Index at = (head + i) % capacity;
       const Index time = read_integer_field(entry, "time");
-      if (i > 0 && time < times[static_cast<std::size_t>((head + i - 1) % capacity)]) {
+      if (i > 0 && time < history.times[static_cast<std::size_t>((head + i - 1) % capacity)]) {
         throw InvalidArgumentError(
             "time", fmt::format("time: is {}; rule: must be >= the previous entry's", time));
       }
-      times[static_cast<std::size_t>(at)] = time;
+      history.times[static_cast<std::size_t>(at)] = time;
       json_state::read_doubles(field(entry, "applied"), "applied", column);
-      applied.col(at) = column;
+      history.applied.col(at) = column;
       json_state::read_doubles(field(entry, "control"), "control", column);
-      controls.col(at) = column;
-      values(at) = read_double_field(entry, "value");
+      history.controls.col(at) = column;
+      history.values(at) = read_double_field(entry, "value");
       json_state::read_doubles(field(entry, "half_gradient"), "half_gradient", column);
-      half_gradients.col(at) = column;
+      history.half_gradients.col(at) = column;
       const Index which =
           read_integer_field(entry, "hessian", 0, static_cast<Index>(hessians.size()) - 1);
       json_state::read_matrix(hessians[static_cast<std::size_t>(which)],
                               fmt::format("hessians[{}]", which), hessian);
-      ring_hessians.middleCols(at * d, d) = hessian;
-      qualities(at) = read_double_field(entry, "quality");
+      history.hessians.middleCols(at * d, d) = hessian;
+      history.qualities(at) = read_double_field(entry, "quality");
       const double model_variance = read_double_field(entry, "model_variance");
       require_non_negative("model_variance", model_variance);
-      model_variances(at) = model_variance;
-      weights(at) = 1.0 / (measurement_variance_ + model_variance);  // as add() forms it
+      history.model_variances(at) = model_variance;
+      history.weights(at) = 1.0 / (measurement_variance_ + model_variance);  // as add() forms it
     });
   }
   OffsetMatrix last_hessian = last_hessian_;
-  if (size > 0) json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
+  if (history.size > 0) {
+    json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
+  }
 
   // The snapshots of the last change_lag + 1 fits, at their slots.
-  const Index snapshot_count = read_integer_field(saved, "snapshot_count", 0);
-  const nlohmann::json& snapshots = json_state::require_array(
-      field(saved, "snapshots"), "snapshots", std::min(snapshot_count, lags));
-  std::vector<Index> snapshot_times = snapshot_times_;
-  Matrix<state_size, Dynamic> snapshot_states = snapshot_states_;
-  Matrix<N, Dynamic> snapshot_covariances = snapshot_covariances_;
+  FitSnapshots fits = fits_;
+  fits.count = read_integer_field(saved, "snapshot_count", 0);
+  const nlohmann::json& snapshots =
+      json_state::require_array(field(saved, "snapshots"), "snapshots", std::min(fits.count, lags));
   StateVector state_column(s);
   for (std::size_t i = 0; i < snapshots.size(); ++i) {
     json_state::within(fmt::format("snapshots[{}]", i), [&] {
       const auto at = static_cast<Index>(i);
-      snapshot_times[i] = read_integer_field(snapshots[i], "time");
+      fits.times[i] = read_integer_field(snapshots[i], "time");
       json_state::read_doubles(field(snapshots[i], "state"), "state", state_column);
-      snapshot_states.col(at) = state_column;
+      fits.states.col(at) = state_column;
       json_state::read_matrix(field(snapshots[i], "covariance"), "covariance", hessian);
-      snapshot_covariances.middleCols(at * d, d) = hessian;
+      fits.covariances.middleCols(at * d, d) = hessian;
     });
   }
 
   // The prior and the estimate.
-  StateVector prior_mean(s);
-  json_state::read_doubles(field(saved, "prior_mean"), "prior_mean", prior_mean);
-  StateMatrix prior_covariance(s, s);
-  json_state::read_matrix(field(saved, "prior_covariance"), "prior_covariance", prior_covariance);
-  const Index prior_time = read_integer_field(saved, "prior_time");
-  StateVector state(s);
-  json_state::read_doubles(field(saved, "state"), "state", state);
-  StateMatrix covariance(s, s);
-  json_state::read_matrix(field(saved, "covariance"), "covariance", covariance);
-  const Index fit_time = read_integer_field(saved, "fit_time");
-  const bool fitted = read_bool(saved, "fitted");
-  const Index changes = read_integer_field(saved, "changes", 0);
-  const bool changed = read_bool(saved, "changed");
-  const bool significant = read_bool(saved, "significant");
+  Prior prior;
+  prior.mean.resize(s);
+  json_state::read_doubles(field(saved, "prior_mean"), "prior_mean", prior.mean);
+  prior.covariance.resize(s, s);
+  json_state::read_matrix(field(saved, "prior_covariance"), "prior_covariance", prior.covariance);
+  prior.time = read_integer_field(saved, "prior_time");
+  Estimate estimate;
+  estimate.state.resize(s);
+  json_state::read_doubles(field(saved, "state"), "state", estimate.state);
+  estimate.covariance.resize(s, s);
+  json_state::read_matrix(field(saved, "covariance"), "covariance", estimate.covariance);
+  estimate.position = estimate.state.head(d);  // as finish() forms them
+  estimate.position_covariance = estimate.covariance.topLeftCorner(d, d);
+  estimate.time = read_integer_field(saved, "fit_time");
+  estimate.fitted = read_bool(saved, "fitted");
+  estimate.changes = read_integer_field(saved, "changes", 0);
+  estimate.changed = read_bool(saved, "changed");
+  estimate.significant = read_bool(saved, "significant");
   MedianMisfit misfit = model_misfit_;
   const nlohmann::json& saved_misfit = field(saved, "misfit");
   json_state::within("misfit", [&] { misfit.restore(saved_misfit); });
@@ -912,34 +977,12 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   json_state::within("prediction_misfit", [&] { prediction_misfit.restore(saved_prediction); });
 
   // Nothing throws from here on.
-  times_.swap(times);
-  controls_.swap(controls);
-  applied_.swap(applied);
-  values_.swap(values);
-  half_gradients_.swap(half_gradients);
-  hessians_.swap(ring_hessians);
-  qualities_.swap(qualities);
-  weights_.swap(weights);
-  model_variances_.swap(model_variances);
-  head_ = head;
-  size_ = size;
+  history_ = std::move(history);
   last_hessian_ = last_hessian;
-  snapshot_times_.swap(snapshot_times);
-  snapshot_states_.swap(snapshot_states);
-  snapshot_covariances_.swap(snapshot_covariances);
-  snapshots_ = snapshot_count;
-  prior_mean_ = prior_mean;
-  prior_covariance_ = prior_covariance;
-  prior_time_ = prior_time;
-  state_ = state;
-  covariance_ = covariance;
-  position_ = state_.head(d);  // as finish() forms them
-  position_covariance_ = covariance_.topLeftCorner(d, d);
-  fit_time_ = fit_time;
-  fitted_ = fitted;
-  changes_ = changes;
-  changed_ = changed;
-  significant_ = significant;
+  fits_ = std::move(fits);
+  prior_ = std::move(prior);
+  estimate_ = std::move(estimate);
+  last_solve_ = SolveSummary{};
   model_misfit_ = std::move(misfit);
   prediction_misfit_ = std::move(prediction_misfit);
 }

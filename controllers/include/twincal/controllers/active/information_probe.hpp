@@ -35,7 +35,7 @@
 
 #include "twincal/controllers/controller_state_json.hpp"
 
-#include "twincal/controllers/probe_design.hpp"
+#include "twincal/controllers/active/probe_design.hpp"
 #include "twincal/core/eigen.hpp"
 
 namespace twincal {

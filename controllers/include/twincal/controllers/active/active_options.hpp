@@ -12,9 +12,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "twincal/controllers/constant_velocity_options.hpp"
+#include "twincal/controllers/active/constant_velocity_options.hpp"
+#include "twincal/controllers/active/quadratic_surrogate.hpp"
 #include "twincal/controllers/paper_settings.hpp"
-#include "twincal/controllers/quadratic_surrogate.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
 

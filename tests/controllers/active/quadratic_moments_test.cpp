@@ -1,4 +1,4 @@
-#include "twincal/controllers/quadratic_moments.hpp"
+#include "twincal/controllers/active/quadratic_moments.hpp"
 
 #include <cmath>
 

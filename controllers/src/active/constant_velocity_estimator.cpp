@@ -1,5 +1,5 @@
 // The estimator's instantiations that constant_velocity_estimator.hpp declares `extern`.
-#include "twincal/controllers/constant_velocity_estimator.hpp"
+#include "twincal/controllers/active/constant_velocity_estimator.hpp"
 
 namespace twincal {
 
