@@ -1,5 +1,6 @@
 #include "twincal/controllers/presets.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -179,6 +180,60 @@ TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
       EXPECT_EQ(corrected_unaudited, 0);
     } else {
       EXPECT_EQ(audited, 0);
+    }
+  }
+}
+
+// The audit compares its arms on pairs: an audited assembly and the one just before it, when
+// that was audited in the other arm. Recomputed from the step reports of the harmful plant
+// above, the pairs' regrets (z − z*)/z* are exactly the ones the controller keeps, ring slot by
+// ring slot — nothing older, nothing unpaired, no pair across a gap.
+TEST(ActiveController, PairsItsAuditedAssembliesOnlyAcrossAdjacentAssembliesOfDifferentArms) {
+  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
+  const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  const ActiveOptions options{.audit_period = 3, .audit_window = 4};
+  ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6), options);
+  const auto window = static_cast<std::size_t>(options.audit_window);
+  std::array<std::vector<double>, 2> expected{std::vector<double>(window, 0.0),
+                                              std::vector<double>(window, 0.0)};
+  std::size_t pairs = 0;
+  std::array<int, 2> arms{};
+  bool previous_audited = false;
+  bool previous_corrected = false;
+  double previous_regret = 0.0;
+  for (int t = 0; t < 150; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+    const VectorX u = controller.propose(x);
+    const double z = twin.quality(x, VectorX(u - offset)) + 5.0 * (u - twin.optimum(x)).norm();
+    controller.observe(x, u, z);
+    const ActiveStepReport& step = controller.last_step();
+    const double best = controller.last_proposal().optimal_quality;
+    const double regret = (z - best) / best;
+    if (step.audited) {
+      ++arms[step.corrected ? 1 : 0];
+      if (previous_audited && previous_corrected != step.corrected) {
+        const std::size_t arm = step.corrected ? 1 : 0;
+        expected[arm][pairs % window] = regret;
+        expected[1 - arm][pairs % window] = previous_regret;
+        ++pairs;
+      }
+    }
+    previous_audited = step.audited;
+    previous_corrected = step.corrected;
+    previous_regret = regret;
+  }
+  // The scenario exercises it: both arms audited, pairs made, and the ring wrapped.
+  ASSERT_GT(arms[0], 3);
+  ASSERT_GT(arms[1], 3);
+  ASSERT_GT(pairs, window);
+  const nlohmann::json saved = controller.save()["audit_pairs"];
+  EXPECT_EQ(saved["count"].get<std::size_t>(), pairs);
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    const auto kept = saved["regrets"][arm].get<std::vector<double>>();
+    ASSERT_EQ(kept.size(), window);
+    for (std::size_t i = 0; i < window; ++i) {
+      EXPECT_DOUBLE_EQ(kept[i], expected[arm][i]) << "arm " << arm << ", slot " << i;
     }
   }
 }
