@@ -172,10 +172,7 @@ constexpr auto options = std::to_array<ConfigOption>({
      nullptr},
 });
 
-}  // namespace
-
-std::span<const ConfigOption> config_options() { return options; }
-
+// A line of help: "  --flag VALUE" in a column of 25, then `text` wrapped at 100 columns.
 std::string help_line(std::string_view flag, std::string_view value_name, std::string_view text) {
   constexpr std::size_t column = 25;
   constexpr std::size_t width = 100;
@@ -205,6 +202,10 @@ std::string help_line(std::string_view flag, std::string_view value_name, std::s
   line.push_back('\n');
   return line;
 }
+
+}  // namespace
+
+std::span<const ConfigOption> config_options() { return options; }
 
 std::string config_options_help() {
   const ExperimentConfig defaults;

@@ -46,8 +46,4 @@ struct ConfigOption {
 /// @throws InvalidArgumentError when a config has no external_twin.
 void apply_twin_options(Arguments& arguments, std::span<ExperimentConfig> configs);
 
-/// A line of help: "  --flag VALUE" in a column of 25, then `text` wrapped at 100 columns.
-[[nodiscard]] std::string help_line(std::string_view flag, std::string_view value_name,
-                                    std::string_view text);
-
 }  // namespace twincal::cli

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "twincal/core/error.hpp"
@@ -137,10 +139,13 @@ std::vector<LayoutPoint> SheetMetalLayout::supports_at(
     const auto locator = std::find_if(locators.begin(), locators.end(),
                                       [&](const LayoutPoint& p) { return p.name == wanted; });
     if (locator == locators.end()) {
+      std::vector<std::string_view> names;
+      for (const LayoutPoint& p : locators) names.push_back(p.name);
       throw InvalidArgumentError(
           "locator_names",
-          fmt::format("locator_names: '{}' is not a locator; rule: must name the layout's locators",
-                      wanted));
+          fmt::format(
+              "locator_names: value is '{}'; rule: must be one of the layout's locators [{}]",
+              wanted, fmt::join(names, ", ")));
     }
     out.push_back({fmt::format("S{}", out.size() + 1), locator->part, locator->x, locator->y});
   }

@@ -1,7 +1,10 @@
 #include "twincal/sheet_metal/sheet_metal_layout.hpp"
 
+#include <algorithm>
+#include <array>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -69,6 +72,31 @@ TEST(SheetMetalLayout, ValidateNamesTheBrokenRule) {
       problem_after([](SheetMetalLayout& l) { l.final_support = FinalSupport::nominal_frame; }),
       HasSubstr("supports: value is 0 points; rule: a nominal frame needs >= 3"));
   EXPECT_EQ(problem_after([](SheetMetalLayout&) {}), "");
+}
+
+// supports_at puts S1, S2, … at the named locators' nominal positions, in the order named, and
+// refuses a name the layout lacks, listing the ones it has.
+TEST(SheetMetalLayout, SupportsAtNamedLocatorsAndRefusesAnUnknownName) {
+  const SheetMetalLayout layout = SheetMetalLayout::lap_joint();
+  const std::vector<LayoutPoint> supports = layout.supports_at({"U2", "L1"});
+  ASSERT_EQ(supports.size(), 2U);
+  const std::array<std::string, 2> named{"U2", "L1"};
+  for (std::size_t i = 0; i < supports.size(); ++i) {
+    const auto locator = std::find_if(layout.locators.begin(), layout.locators.end(),
+                                      [&](const LayoutPoint& p) { return p.name == named[i]; });
+    ASSERT_NE(locator, layout.locators.end());
+    EXPECT_EQ(supports[i].name, "S" + std::to_string(i + 1));
+    EXPECT_EQ(supports[i].part, locator->part);
+    EXPECT_EQ(supports[i].x, locator->x);
+    EXPECT_EQ(supports[i].y, locator->y);
+  }
+  try {
+    (void)layout.supports_at({"L1", "Q9"});
+    FAIL() << "Q9 was accepted";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("locator_names: value is 'Q9'; rule: must be one of the "
+                                        "layout's locators [U1, U2, U3, L1, L2, L3]"));
+  }
 }
 
 TEST(SheetMetalLayout, JsonCarriesTheLayout) {
