@@ -4,6 +4,7 @@
 #include "twincal/controllers/active/information_probe.hpp"
 #include "twincal/controllers/active/probe_design.hpp"
 #include "twincal/controllers/active/thompson_probe.hpp"
+#include "twincal/controllers/batch_optimizer.hpp"
 #include "twincal/controllers/controller.hpp"
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/exploitation_loss.hpp"
@@ -17,6 +18,7 @@
 #include "twincal/controllers/sampler_state.hpp"
 #include "twincal/controllers/searched_optimum_twin.hpp"
 #include "twincal/controllers/trace_loss.hpp"
+#include "twincal/controllers/trust_region_search.hpp"
 #include "twincal/controllers/weighted_trace_loss.hpp"
 #include "twincal/models/key_point_twin.hpp"
 #include "twincal/models/no_nonlinearity.hpp"
@@ -100,5 +102,16 @@ struct MutatingOptimizer {  // minimize must be callable on a const optimizer
 };
 static_assert(Optimizer<NloptOptimizer>);
 static_assert(!Optimizer<MutatingOptimizer>);
+
+// --- BatchOptimizer -------------------------------------------------------------------------
+struct ScalarResultOptimizer {  // a result without argmin / minimum / evaluations
+  double minimize(const BatchObjective&, const VectorX&, const VectorX&, const VectorX&) const {
+    return 0.0;
+  }
+};
+static_assert(BatchOptimizer<TrustRegionSearch>);
+static_assert(!BatchOptimizer<NloptOptimizer>);  // it asks for one control at a time
+static_assert(!Optimizer<TrustRegionSearch>);
+static_assert(!BatchOptimizer<ScalarResultOptimizer>);
 
 }  // namespace twincal::static_checks

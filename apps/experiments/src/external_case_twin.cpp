@@ -13,6 +13,7 @@
 
 #include "twincal/controllers/additive_warm_start.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
+#include "twincal/controllers/trust_region_search.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
@@ -63,7 +64,8 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings,
       lower_parts_(settings.lower_parts),
       global_evaluations_(settings.optimum_global_evaluations),
       local_evaluations_(settings.optimum_local_evaluations),
-      budget_(settings.optimum_budget) {
+      budget_(settings.optimum_budget),
+      trust_region_(settings.optimum_method == "trust_region") {
   for (Index i = 0; i < settings.upper_parts; ++i) {
     for (Index j = 0; j < settings.lower_parts; ++j) assemblies_.push_back({i, j});
   }
@@ -101,13 +103,13 @@ void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Sta
   // Worker w searches positions w, w + T, …: one request in flight per worker.
   const Index threads = std::min(backend_->workers(), count);
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(threads));
-  std::vector<std::uint64_t> evaluations(static_cast<std::size_t>(threads), 0);
+  std::vector<SearchCost> costs(static_cast<std::size_t>(threads));
   const auto search_share = [&](Index w) {
     for (Index k = w; k < count; k += threads) {
       const Index a = positions[static_cast<std::size_t>(k)];
       const AssemblyId& assembly = assemblies_[static_cast<std::size_t>(a)];
       try {
-        evaluations[static_cast<std::size_t>(w)] +=
+        costs[static_cast<std::size_t>(w)] +=
             search(w, assembly_json(assembly), start(assembly), global_evaluations,
                    local_evaluations, optima_.col(a), optimal_qualities_(a));
       } catch (...) {
@@ -124,13 +126,34 @@ void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Sta
   for (const std::exception_ptr& failure : failures) {
     if (failure) std::rethrow_exception(failure);
   }
-  for (const std::uint64_t e : evaluations) search_evaluations_ += e;
+  for (const SearchCost& cost : costs) search_cost_ += cost;
 }
 
-std::uint64_t ExternalCaseTwin::search(Index worker, const nlohmann::json& assembly,
-                                       const VectorX& start, Index global_evaluations,
-                                       Index local_evaluations, Eigen::Ref<VectorX> optimum,
-                                       double& quality) const {
+ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
+    Index worker, const nlohmann::json& assembly, const VectorX& start, Index global_evaluations,
+    Index local_evaluations, Eigen::Ref<VectorX> optimum, double& quality) {
+  if (budget_ > 0 && trust_region_) {
+    TrustRegionSearchOptions options;
+    options.evaluations = static_cast<std::uint64_t>(local_evaluations);
+    const ExternalTwinBackend& twin = *backend_;
+    // One request per round to this worker: a batch for one assembly can share a solver deck.
+    const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
+                                         Eigen::Ref<VectorX> qualities) {
+      twin.worker_quality_batch(worker, assembly, controls, qualities);
+    };
+    TrustRegionSearchResult found;
+    try {
+      found = TrustRegionSearch(options).minimize(objective, start, lower_bounds(), upper_bounds());
+    } catch (const NonFiniteError& error) {
+      throw InvalidArgumentError(
+          "optimum", fmt::format("optimum: the twin answered no quality for assembly {} ({}); "
+                                 "rule: the u0 search needs evaluable controls",
+                                 assembly.dump(), error.what()));
+    }
+    optimum = found.argmin;
+    quality = found.minimum;
+    return {found.evaluations, static_cast<std::uint64_t>(found.batches)};
+  }
   NloptOptimizerOptions budgets;
   budgets.global_evaluations = static_cast<std::uint64_t>(global_evaluations);
   budgets.local_evaluations = static_cast<std::uint64_t>(local_evaluations);
@@ -167,7 +190,7 @@ std::uint64_t ExternalCaseTwin::search(Index worker, const nlohmann::json& assem
   }
   optimum = best_control;
   quality = best;
-  return found.evaluations;
+  return {found.evaluations, found.evaluations};
 }
 
 AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
@@ -178,7 +201,7 @@ AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
   }
   VectorX optimum(control_dimension());
   double quality = 0.0;
-  std::uint64_t evaluations = 0;
+  SearchCost cost;
   if (known) {
     require_dimension("known.control", known->control.size(), control_dimension());
     require_finite("known.control", known->control);
@@ -187,10 +210,9 @@ AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
     quality = known->quality;
   } else {
     const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
-    evaluations = budget_ == 0
-                      ? search(0, {{"parts", parts}}, centre, global_evaluations_,
-                               local_evaluations_, optimum, quality)
-                      : search(0, {{"parts", parts}}, centre, 0, 2 * budget_, optimum, quality);
+    cost = budget_ == 0 ? search(0, {{"parts", parts}}, centre, global_evaluations_,
+                                 local_evaluations_, optimum, quality)
+                        : search(0, {{"parts", parts}}, centre, 0, 2 * budget_, optimum, quality);
   }
   // The search succeeded: only now does anything change.
   const Index column = optima_.cols();
@@ -201,7 +223,7 @@ AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
   const Index k = scanned_count();
   scanned_parts_.push_back(parts);
   scanned_ids_.emplace(key, k);
-  search_evaluations_ += evaluations;
+  search_cost_ += cost;
   return scanned_assembly(k);
 }
 

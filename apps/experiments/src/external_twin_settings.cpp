@@ -56,6 +56,8 @@ std::optional<std::string> ExternalTwinSettings::validate() const {
        rule::check(
            optimum_budget <= 0 || optimum_budget >= 2 * d + 2, "optimum_budget", optimum_budget,
            "0 or >= 2d + 2 = {} (BOBYQA's first model needs 2d + 1 evaluations)", 2 * d + 2),
+       rule::check(optimum_method == "bobyqa" || optimum_method == "trust_region", "optimum_method",
+                   optimum_method, "must be bobyqa or trust_region"),
        rule::at_least("timeout_ms", timeout_ms, Index{1}),
        rule::at_least("startup_grace_ms", startup_grace_ms, Index{0})});
 }
@@ -72,7 +74,8 @@ void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {
           {"startup_grace_ms", settings.startup_grace_ms},
           {"optimum_global_evaluations", settings.optimum_global_evaluations},
           {"optimum_local_evaluations", settings.optimum_local_evaluations},
-          {"optimum_budget", settings.optimum_budget}};
+          {"optimum_budget", settings.optimum_budget},
+          {"optimum_method", settings.optimum_method}};
 }
 
 void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
@@ -122,12 +125,14 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
         read.optimum_local_evaluations = strict_value<Index>(value, field);
       } else if (key == "optimum_budget") {
         read.optimum_budget = strict_value<Index>(value, field);
+      } else if (key == "optimum_method") {
+        read.optimum_method = value.get<std::string>();
       } else {
         throw InvalidArgumentError(
             field, fmt::format("config: key \"{}\" is unknown; rule: must be one of [command, "
                                "locators, lower_bounds, upper_bounds, upper_parts, lower_parts, "
                                "workers, timeout_ms, startup_grace_ms, optimum_global_evaluations, "
-                               "optimum_local_evaluations, optimum_budget]",
+                               "optimum_local_evaluations, optimum_budget, optimum_method]",
                                field));
       }
     } catch (const nlohmann::json::exception& error) {

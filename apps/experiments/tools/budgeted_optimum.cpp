@@ -1,12 +1,15 @@
-// twincal_budgeted_optimum: how close a budgeted u0 search (BOBYQA alone, from controllers'
-// AdditiveWarmStart, as `optimum_budget` runs it for the external case) comes to the full or
-// exact optimum of a case's 100 assemblies (docs/benchmarks.md, "Budgeted u0").
-//   twincal_budgeted_optimum CASE [D] [FACTOR] [SEED]
+// twincal_budgeted_optimum: how close a budgeted u0 search (from controllers' AdditiveWarmStart,
+// as `optimum_budget` runs it for the external case) comes to the full or exact optimum of a
+// case's 100 assemblies (docs/benchmarks.md, "Budgeted u0").
+//   twincal_budgeted_optimum CASE [D] [FACTOR] [SEED] [METHOD]
 // CASE: analytic | contact | stiffening | kink (the analytic family, D locators) | body | door |
 // body-contact | door-contact; budget B = FACTOR (d + 1)² (FACTOR 1 by default); the first row and
 // column get 2B from the centre, the others B from the additive start. The reference z* is the
 // case's own: exact (analytic RMS-quadratic, body, door) or the full search (DIRECT-L then
 // BOBYQA, 2000 + 1000 evaluations; the FEM contact cases: BOBYQA from the linear optimum).
+// METHOD: bobyqa (NLopt's BOBYQA alone, one evaluation per request; the default) or
+// trust_region (controllers' TrustRegionSearch, a batch per request). Prints the mean
+// evaluations and requests (rounds of the twin's latency) per assembly.
 
 #include <algorithm>
 #include <cstdio>
@@ -15,13 +18,15 @@
 
 #include "twincal/controllers/additive_warm_start.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
+#include "twincal/controllers/trust_region_search.hpp"
 #include "twincal/experiments/experiment_choices.hpp"
 #include "twincal/experiments/twin_cases.hpp"
 
 int main(int argc, char** argv) {
   using namespace twincal;
   if (argc < 2) {
-    std::fprintf(stderr, "usage: twincal_budgeted_optimum CASE [D] [FACTOR] [SEED]\n");
+    std::fprintf(
+        stderr, "usage: twincal_budgeted_optimum CASE [D] [FACTOR] [SEED] [bobyqa|trust_region]\n");
     return 2;
   }
   try {
@@ -36,6 +41,11 @@ int main(int argc, char** argv) {
       config.twin_case = parse_enum<TwinCase>(which, "CASE");
     }
     const double factor = argc > 3 ? std::stod(argv[3]) : 1.0;
+    const std::string method = argc > 5 ? argv[5] : "bobyqa";
+    if (method != "bobyqa" && method != "trust_region") {
+      throw InvalidArgumentError(
+          "METHOD", "METHOD: value is '" + method + "'; rule: must be bobyqa or trust_region");
+    }
     const AnyTwin twin = make_twin(config);
     const Index d = twin.control_dimension();
     const auto budget = static_cast<std::uint64_t>(factor * static_cast<double>((d + 1) * (d + 1)));
@@ -47,12 +57,28 @@ int main(int argc, char** argv) {
     const VectorX centre = 0.5 * (twin.lower_bounds() + twin.upper_bounds());
     std::vector<double> gaps;
     std::uint64_t evaluations = 0;
+    std::uint64_t requests = 0;
     for (const AssemblyId& assembly : order) {
-      NloptOptimizerOptions options;
-      options.global_evaluations = 0;
-      options.local_evaluations = AdditiveWarmStart::phase(assembly) == 0 ? 2 * budget : budget;
-      const IndividualOptimum<AnyTwin> search(twin, NloptOptimizer(options));
-      const IndividualControl found = search.optimize(assembly, warm.start(assembly, centre));
+      const std::uint64_t allowed = AdditiveWarmStart::phase(assembly) == 0 ? 2 * budget : budget;
+      const VectorX start = warm.start(assembly, centre);
+      IndividualControl found;
+      if (method == "bobyqa") {
+        NloptOptimizerOptions options;
+        options.global_evaluations = 0;
+        options.local_evaluations = allowed;
+        found = IndividualOptimum<AnyTwin>(twin, NloptOptimizer(options)).optimize(assembly, start);
+        requests += found.evaluations;
+      } else {
+        const TrustRegionSearch search({.evaluations = allowed});
+        const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
+                                             Eigen::Ref<VectorX> qualities) {
+          twin.quality_batch(assembly, controls, qualities);
+        };
+        const TrustRegionSearchResult result =
+            search.minimize(objective, start, twin.lower_bounds(), twin.upper_bounds());
+        found = {result.argmin, result.minimum, result.evaluations};
+        requests += static_cast<std::uint64_t>(result.batches);
+      }
       warm.record(assembly, found.control);
       evaluations += found.evaluations;
       const double reference = twin.optimal_quality(assembly);
@@ -62,11 +88,13 @@ int main(int argc, char** argv) {
     const std::size_t n = gaps.size();
     const auto within = std::count_if(gaps.begin(), gaps.end(), [](double g) { return g <= 0.01; });
     std::printf(
-        "%s d=%ld seed=%llu budget=%llu: mean evaluations per assembly %.1f (4(d+1)^2 = %ld); "
+        "%s %s d=%ld seed=%llu budget=%llu: mean evaluations per assembly %.1f in %.1f requests "
+        "(4(d+1)^2 = %ld); "
         "relative gap to z*: median %.2e, 90th percentile %.2e, max %.2e, min %.2e; within 1 %%: "
         "%ld/%zu\n",
-        which.c_str(), static_cast<long>(d), static_cast<unsigned long long>(config.twin_seed),
-        static_cast<unsigned long long>(budget), static_cast<double>(evaluations) / double(n),
+        which.c_str(), method.c_str(), static_cast<long>(d),
+        static_cast<unsigned long long>(config.twin_seed), static_cast<unsigned long long>(budget),
+        static_cast<double>(evaluations) / double(n), static_cast<double>(requests) / double(n),
         static_cast<long>(4 * (d + 1) * (d + 1)), gaps[n / 2], gaps[n * 9 / 10], gaps.back(),
         gaps.front(), static_cast<long>(within), n);
   } catch (const std::exception& error) {

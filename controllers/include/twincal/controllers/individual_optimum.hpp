@@ -3,14 +3,16 @@
 /// `IndividualOptimum<Twin, Optimizer>`: the individualized control of Def. 2,
 /// u0(x) = argmin_u Q(x, u; θ0) (eq. 3), and the approximated optimal quality z*(x) = Q(x, u0).
 /// A twin that knows its optimum (TwinWithOptimum) answers exactly and costs no evaluation;
-/// otherwise the Optimizer policy searches the twin's bounds from the centre of the box (or from
-/// a start the caller gives) and the evaluations are counted.
+/// otherwise the optimizer policy searches the twin's bounds from the centre of the box (or from
+/// a start the caller gives) and the evaluations are counted. The policy is an Optimizer (one
+/// control per call) or a BatchOptimizer (the twin's quality_batch: TrustRegionSearch).
 
 #include <cstdint>
 #include <utility>
 
 #include <Eigen/Core>
 
+#include "twincal/controllers/batch_optimizer.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/optimizer.hpp"
 #include "twincal/core/eigen.hpp"
@@ -27,7 +29,10 @@ struct IndividualControl {
   std::uint64_t evaluations = 0;  ///< Q evaluations spent (0 for an exact optimum)
 };
 
-template <Twin T, Optimizer O = NloptOptimizer>
+template <typename O>
+concept AnyOptimizer = Optimizer<O> || BatchOptimizer<O>;
+
+template <Twin T, AnyOptimizer O = NloptOptimizer>
 class IndividualOptimum {
  public:
   using Assembly = typename T::Assembly;
@@ -51,12 +56,22 @@ class IndividualOptimum {
   /// optimizer against the truth).
   [[nodiscard]] IndividualControl optimize(const Assembly& assembly, const VectorX& start) const {
     require_dimension("start", start.size(), twin_->control_dimension());
-    const Objective objective = [&](const Eigen::Ref<const VectorX>& u) {
-      return twin_->quality(assembly, u);
-    };
-    OptimizationResult result =
-        optimizer_.minimize(objective, start, twin_->lower_bounds(), twin_->upper_bounds());
-    return {std::move(result.argmin), result.minimum, result.evaluations};
+    if constexpr (BatchOptimizer<O>) {
+      const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
+                                           Eigen::Ref<VectorX> qualities) {
+        twin_->quality_batch(assembly, controls, qualities);
+      };
+      auto result =
+          optimizer_.minimize(objective, start, twin_->lower_bounds(), twin_->upper_bounds());
+      return {std::move(result.argmin), result.minimum, result.evaluations};
+    } else {
+      const Objective objective = [&](const Eigen::Ref<const VectorX>& u) {
+        return twin_->quality(assembly, u);
+      };
+      OptimizationResult result =
+          optimizer_.minimize(objective, start, twin_->lower_bounds(), twin_->upper_bounds());
+      return {std::move(result.argmin), result.minimum, result.evaluations};
+    }
   }
 
   [[nodiscard]] const T& twin() const noexcept { return *twin_; }

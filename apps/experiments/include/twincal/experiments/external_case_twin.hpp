@@ -90,7 +90,12 @@ class ExternalCaseTwin {
   /// Every (upper, lower) pair, upper-major (the scanned assemblies are not listed).
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
   /// Evaluations the optimum searches took, over all assemblies.
-  [[nodiscard]] std::uint64_t search_evaluations() const noexcept { return search_evaluations_; }
+  [[nodiscard]] std::uint64_t search_evaluations() const noexcept {
+    return search_cost_.evaluations;
+  }
+  /// Requests the optimum searches made: one per evaluation for BOBYQA, one per batch (round of
+  /// the twin's latency) for the trust region.
+  [[nodiscard]] std::uint64_t search_requests() const noexcept { return search_cost_.requests; }
   /// Where the evaluations run (an ExternalTwinPool unless another backend was made).
   [[nodiscard]] const ExternalTwinBackend& backend() const noexcept { return *backend_; }
 
@@ -104,9 +109,19 @@ class ExternalCaseTwin {
   // u0 and z* of `assembly` (as the program receives it), searched with worker `worker` from
   // `start` with NLopt's two phases and these budgets, into `optimum` and `quality`; returns the
   // evaluations it took.
-  std::uint64_t search(Index worker, const nlohmann::json& assembly, const VectorX& start,
-                       Index global_evaluations, Index local_evaluations,
-                       Eigen::Ref<VectorX> optimum, double& quality) const;
+  // The trust region (optimum_method) runs when the search is budgeted.
+  struct SearchCost {
+    std::uint64_t evaluations = 0;
+    std::uint64_t requests = 0;
+    SearchCost& operator+=(const SearchCost& other) noexcept {
+      evaluations += other.evaluations;
+      requests += other.requests;
+      return *this;
+    }
+  };
+  SearchCost search(Index worker, const nlohmann::json& assembly, const VectorX& start,
+                    Index global_evaluations, Index local_evaluations, Eigen::Ref<VectorX> optimum,
+                    double& quality);
   // Searches the assemblies at `positions` (indices into assemblies_), one request in flight per
   // worker, each from start(assembly).
   template <typename Start>
@@ -117,13 +132,14 @@ class ExternalCaseTwin {
   Index lower_parts_;
   Index global_evaluations_;
   Index local_evaluations_;
-  Index budget_;  // optimum_budget: 0 for the full search
+  Index budget_;       // optimum_budget: 0 for the full search
+  bool trust_region_;  // optimum_method: TrustRegionSearch instead of BOBYQA
   std::vector<AssemblyId> assemblies_;
   std::vector<nlohmann::json> scanned_parts_;  // k-th scanned assembly's parts
   std::map<std::string, Index> scanned_ids_;   // parts (compact JSON) → k
   MatrixX optima_;                             // d × (pairs + scanned)
   VectorX optimal_qualities_;                  // pairs + scanned
-  std::uint64_t search_evaluations_ = 0;
+  SearchCost search_cost_;
 };
 
 static_assert(TwinWithOptimum<ExternalCaseTwin>);

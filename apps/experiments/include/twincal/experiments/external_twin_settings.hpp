@@ -11,7 +11,7 @@
 ///    "upper_parts": 10, "lower_parts": 10, "workers": 4, "timeout_ms": 10000,
 ///    "startup_grace_ms": 10000,
 ///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000,
-///    "optimum_budget": 0}
+///    "optimum_budget": 0, "optimum_method": "bobyqa"}
 
 #include <optional>
 #include <string>
@@ -44,6 +44,13 @@ struct ExternalTwinSettings {
   /// start u0(i, 0) + u0(0, j) − u0(0, 0) (controllers' additive_warm_start.hpp), and with 2B
   /// from the centre for the first row and column of assemblies and for scanned ones.
   Index optimum_budget = 0;
+  /// How a budgeted search runs: "bobyqa" (NLopt's BOBYQA, one evaluation per request) or
+  /// "trust_region" (controllers' TrustRegionSearch: 2d + 1 controls in its first request,
+  /// d + 1 in each later one, each assembly's requests to one worker). The trust region waits
+  /// on the twin 10 to 25 times less often and its batches can share a solver deck; BOBYQA gets
+  /// closer to z* per evaluation where Q has kinks at d = 3 (docs/benchmarks.md, "Budgeted u0").
+  /// Unused when optimum_budget is 0.
+  std::string optimum_method = "bobyqa";
 
   static constexpr Index max_parts = 10000;
 
