@@ -5,6 +5,7 @@
 #
 # usage: benchmarks/calculix/table1_analog.sh [OUT_DIR] [WORKERS...]   (from the repository root,
 #        after a build; default OUT_DIR /tmp/twincal_table1, WORKERS 1 8)
+#        OPTIMUM_METHOD=trust_region for the batched u0 search (default bobyqa; docs/external.md)
 #
 # The lap joint with contact and large displacements (the program's default), 2 x 3 parts (6
 # assemblies), the budgeted u0 search of 2 (d + 1)^2 = 98 calls per assembly over the six
@@ -17,10 +18,11 @@ out="${1:-/tmp/twincal_table1}"
 shift || true
 workers=("$@")
 [ ${#workers[@]} -gt 0 ] || workers=(1 8)
+method="${OPTIMUM_METHOD:-bobyqa}"
 mkdir -p "$out"
 for locators in U3 U1,U3,L3; do
   for w in "${workers[@]}"; do
-    name="locators-${locators//,/}-workers-$w"
+    name="locators-${locators//,/}-workers-$w-$method"
     cat > "$out/$name.json" <<JSON
 {
   "name": "$name",
@@ -35,7 +37,8 @@ for locators in U3 U1,U3,L3; do
     "lower_parts": 3,
     "workers": $w,
     "timeout_ms": 600000,
-    "optimum_budget": 98
+    "optimum_budget": 98,
+    "optimum_method": "$method"
   },
   "locators": "$locators",
   "controllers": ["baseline", "default", "w=1", "active"],

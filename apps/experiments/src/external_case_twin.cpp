@@ -131,7 +131,7 @@ void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Sta
 
 ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
     Index worker, const nlohmann::json& assembly, const VectorX& start, Index global_evaluations,
-    Index local_evaluations, Eigen::Ref<VectorX> optimum, double& quality) {
+    Index local_evaluations, Eigen::Ref<VectorX> optimum, double& quality) const {
   if (budget_ > 0 && trust_region_) {
     TrustRegionSearchOptions options;
     options.evaluations = static_cast<std::uint64_t>(local_evaluations);

@@ -121,7 +121,7 @@ class ExternalCaseTwin {
   };
   SearchCost search(Index worker, const nlohmann::json& assembly, const VectorX& start,
                     Index global_evaluations, Index local_evaluations, Eigen::Ref<VectorX> optimum,
-                    double& quality);
+                    double& quality) const;
   // Searches the assemblies at `positions` (indices into assemblies_), one request in flight per
   // worker, each from start(assembly).
   template <typename Start>
