@@ -206,6 +206,16 @@ TEST(ExternalCaseTwin, TrustRegionSearchFindsTheOptimumInBatches) {
         << fmt::format("{}", x);
     EXPECT_EQ(one.optimum(x), three.optimum(x));
   }
+  // One assembly (no other search in flight): its rounds spread over the three workers, with
+  // the same result as on one.
+  settings.upper_parts = 1;
+  settings.lower_parts = 1;
+  const ExternalCaseTwin alone(settings);
+  settings.workers = 1;
+  const ExternalCaseTwin alone_on_one(settings);
+  EXPECT_EQ(alone.optimum({0, 0}), alone_on_one.optimum({0, 0}));
+  EXPECT_EQ(alone.optimum({0, 0}), one.optimum({0, 0}));
+  EXPECT_EQ(alone.search_requests(), alone_on_one.search_requests());
   settings.optimum_method = "powell";
   EXPECT_THAT(settings.validate().value_or(""),
               HasSubstr("optimum_method: value is powell; rule: must be bobyqa or trust_region"));

@@ -110,7 +110,7 @@ void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Sta
       const AssemblyId& assembly = assemblies_[static_cast<std::size_t>(a)];
       try {
         costs[static_cast<std::size_t>(w)] +=
-            search(w, assembly_json(assembly), start(assembly), global_evaluations,
+            search(w, threads == 1, assembly_json(assembly), start(assembly), global_evaluations,
                    local_evaluations, optima_.col(a), optimal_qualities_(a));
       } catch (...) {
         failures[static_cast<std::size_t>(w)] = std::current_exception();
@@ -130,16 +130,22 @@ void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Sta
 }
 
 ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
-    Index worker, const nlohmann::json& assembly, const VectorX& start, Index global_evaluations,
-    Index local_evaluations, Eigen::Ref<VectorX> optimum, double& quality) const {
+    Index worker, bool whole_pool, const nlohmann::json& assembly, const VectorX& start,
+    Index global_evaluations, Index local_evaluations, Eigen::Ref<VectorX> optimum,
+    double& quality) const {
   if (budget_ > 0 && trust_region_) {
     TrustRegionSearchOptions options;
     options.evaluations = static_cast<std::uint64_t>(local_evaluations);
     const ExternalTwinBackend& twin = *backend_;
-    // One request per round to this worker: a batch for one assembly can share a solver deck.
+    // A round's controls spread over the pool when this is the only search (a scanned
+    // assembly, a phase of one), else one request to this worker.
     const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
                                          Eigen::Ref<VectorX> qualities) {
-      twin.worker_quality_batch(worker, assembly, controls, qualities);
+      if (whole_pool) {
+        twin.quality_batch(assembly, controls, qualities);
+      } else {
+        twin.worker_quality_batch(worker, assembly, controls, qualities);
+      }
     };
     TrustRegionSearchResult found;
     try {
@@ -210,9 +216,10 @@ AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
     quality = known->quality;
   } else {
     const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
-    cost = budget_ == 0 ? search(0, {{"parts", parts}}, centre, global_evaluations_,
-                                 local_evaluations_, optimum, quality)
-                        : search(0, {{"parts", parts}}, centre, 0, 2 * budget_, optimum, quality);
+    cost = budget_ == 0
+               ? search(0, true, {{"parts", parts}}, centre, global_evaluations_,
+                        local_evaluations_, optimum, quality)
+               : search(0, true, {{"parts", parts}}, centre, 0, 2 * budget_, optimum, quality);
   }
   // The search succeeded: only now does anything change.
   const Index column = optima_.cols();

@@ -109,7 +109,8 @@ class ExternalCaseTwin {
   // u0 and z* of `assembly` (as the program receives it), searched with worker `worker` from
   // `start` with NLopt's two phases and these budgets, into `optimum` and `quality`; returns the
   // evaluations it took.
-  // The trust region (optimum_method) runs when the search is budgeted.
+  // The trust region (optimum_method) runs when the search is budgeted; with `whole_pool` (no
+  // other search in flight) its rounds spread over every worker.
   struct SearchCost {
     std::uint64_t evaluations = 0;
     std::uint64_t requests = 0;
@@ -119,9 +120,9 @@ class ExternalCaseTwin {
       return *this;
     }
   };
-  SearchCost search(Index worker, const nlohmann::json& assembly, const VectorX& start,
-                    Index global_evaluations, Index local_evaluations, Eigen::Ref<VectorX> optimum,
-                    double& quality) const;
+  SearchCost search(Index worker, bool whole_pool, const nlohmann::json& assembly,
+                    const VectorX& start, Index global_evaluations, Index local_evaluations,
+                    Eigen::Ref<VectorX> optimum, double& quality) const;
   // Searches the assemblies at `positions` (indices into assemblies_), one request in flight per
   // worker, each from start(assembly).
   template <typename Start>
