@@ -70,21 +70,7 @@ class NloptOptimizer {
   ///         and whatever f throws.
   [[nodiscard]] OptimizationResult minimize(const Objective& objective, const VectorX& start,
                                             const VectorX& lower, const VectorX& upper) const {
-    const Index d = start.size();
-    require_dimension("lower", lower.size(), d);
-    require_dimension("upper", upper.size(), d);
-    require_finite("start", start);
-    require_finite("lower", lower);
-    require_finite("upper", upper);
-    for (Index i = 0; i < d; ++i) {
-      if (!(lower(i) <= upper(i))) {
-        throw InvalidArgumentError(
-            "lower", fmt::format("lower: entry {} is {} > upper {}; rule: lower <= upper", i,
-                                 lower(i), upper(i)));
-      }
-      require_in_range(fmt::format("start({})", i), start(i), lower(i), upper(i));
-    }
-
+    require_search_box(start, lower, upper);
     Search search{objective, nullptr, 0, {}, start, std::numeric_limits<double>::infinity()};
     OptimizationResult result;
     VectorX x = start;

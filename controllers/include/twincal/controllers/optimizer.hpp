@@ -9,9 +9,13 @@
 #include <functional>
 #include <string>
 
+#include <fmt/format.h>
 #include <Eigen/Core>
 
 #include "twincal/core/eigen.hpp"
+#include "twincal/core/error.hpp"
+#include "twincal/core/format.hpp"
+#include "twincal/core/validate.hpp"
 
 namespace twincal {
 
@@ -25,6 +29,28 @@ struct OptimizationResult {
   std::uint64_t evaluations = 0;  ///< objective calls made
   std::string summary;  ///< one line per phase: algorithm, evaluations, value, stop reason
 };
+
+/// Checks the input of a search over the box [lower, upper]: bounds of start's size, all finite,
+/// lower <= upper on every locator (lower < upper with `strict`, for a search whose steps scale
+/// with the box's width), and start inside.
+/// @throws DimensionMismatchError, NonFiniteError, InvalidArgumentError naming the entry.
+inline void require_search_box(const VectorX& start, const VectorX& lower, const VectorX& upper,
+                               bool strict = false) {
+  const Index d = start.size();
+  require_dimension("lower", lower.size(), d);
+  require_dimension("upper", upper.size(), d);
+  require_finite("start", start);
+  require_finite("lower", lower);
+  require_finite("upper", upper);
+  for (Index i = 0; i < d; ++i) {
+    if (strict ? !(lower(i) < upper(i)) : !(lower(i) <= upper(i))) {
+      throw InvalidArgumentError(
+          "lower", fmt::format("lower: entry {} is {} {} upper {}; rule: lower {} upper", i,
+                               lower(i), strict ? ">=" : ">", upper(i), strict ? "<" : "<="));
+    }
+    require_in_range(fmt::format("start({})", i), start(i), lower(i), upper(i));
+  }
+}
 
 /// `minimize(f, start, lower, upper)` returns the best point of f in [lower, upper] it finds
 /// within its budget, starting its search from `start`.

@@ -47,6 +47,7 @@
 #include <Eigen/QR>
 
 #include "twincal/controllers/batch_optimizer.hpp"
+#include "twincal/controllers/optimizer.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/format.hpp"
 #include "twincal/core/options.hpp"
@@ -438,21 +439,9 @@ class TrustRegionSearch {
   };
 
   static void require_box(const VectorX& start, const VectorX& lower, const VectorX& upper) {
-    const Index d = start.size();
-    if (d == 0) throw InvalidArgumentError("start", "start: value is empty; rule: d >= 1");
-    require_dimension("lower", lower.size(), d);
-    require_dimension("upper", upper.size(), d);
-    require_finite("start", start);
-    require_finite("lower", lower);
-    require_finite("upper", upper);
-    for (Index i = 0; i < d; ++i) {
-      if (!(lower(i) < upper(i))) {
-        throw InvalidArgumentError(
-            "lower", fmt::format("lower: entry {} is {} against upper {}; rule: lower < upper", i,
-                                 lower(i), upper(i)));
-      }
-      require_in_range(fmt::format("start({})", i), start(i), lower(i), upper(i));
-    }
+    if (start.size() == 0)
+      throw InvalidArgumentError("start", "start: value is empty; rule: d >= 1");
+    require_search_box(start, lower, upper, /*strict=*/true);
   }
 
   TrustRegionSearchOptions options_;
