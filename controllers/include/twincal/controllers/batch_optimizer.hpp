@@ -1,10 +1,10 @@
 #pragma once
 /// @file
 /// The `BatchOptimizer` concept: a derivative-free minimizer over a box that asks for its
-/// objective a batch of points at a time. A twin that costs seconds per call answers a batch
-/// faster than its points one by one — spread over a pool's workers, or one solver deck for
-/// several controls (docs/calculix.md: 0.17 s per call in a batch of 10 against 0.56 s alone) —
-/// so a search of eq. (3) that batches its calls takes fewer rounds of the twin's latency.
+/// objective a batch of points at a time. A twin that costs seconds per call can answer a batch
+/// faster than its points one by one — spread over a pool's workers, or one solver run for
+/// several controls — so a search of eq. (3) that batches its calls waits fewer times on the
+/// twin (docs/benchmarks.md, "Budgeted u0").
 
 #include <concepts>
 #include <cstdint>
