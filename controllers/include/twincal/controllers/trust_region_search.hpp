@@ -92,8 +92,8 @@ struct TrustRegionSearchResult {
   Index accepted_steps = 0;
   double radius = 0.0;  ///< the final radius, as a fraction of the box's width
   TrustRegionStatus status = TrustRegionStatus::budget_spent;
-  /// H = ∇²Q²/2 of the last model (QuadraticModel's convention), or the one the caller gave if
-  /// none was fitted.
+  /// H = ∇²Q²/2 of the last model (QuadraticModel's convention); the one the caller gave, or
+  /// zero, if the budget ended before any fit.
   MatrixX curvature;
 
   /// One line: evaluations, batches, fits, best value, status.
@@ -187,6 +187,13 @@ class TrustRegionSearch {
       if (curvature.size() == 0) curvature.setZero(d, d);
       Index center = best;
       bool stencil_evaluated = true;  // around the centre at the radius in use
+      // A point better than the centre becomes the centre: where Q has kinks a coordinate step
+      // can find the descent a smooth model misses.
+      const auto recentre = [&] {
+        if (best == center) return;
+        center = best;
+        stencil_evaluated = false;
+      };
       result.status = TrustRegionStatus::budget_spent;
       while (remaining() > 0) {
         if (radius < options.final_radius || squares(center) == 0.0) {
@@ -204,10 +211,7 @@ class TrustRegionSearch {
           } else {
             evaluate(stencil(c, scale, false));
             stencil_evaluated = true;
-            if (best != center) {
-              center = best;
-              stencil_evaluated = false;
-            }
+            recentre();
           }
           continue;
         }
@@ -234,12 +238,7 @@ class TrustRegionSearch {
           radius *= 0.5;
         }
         stencil_evaluated = center == index;
-        // A stencil point better than the centre becomes the centre: where Q has kinks a
-        // coordinate step can find the descent a smooth model misses.
-        if (best != center) {
-          center = best;
-          stencil_evaluated = false;
-        }
+        recentre();
       }
       result.argmin = points.col(best);
       result.minimum = std::sqrt(squares(best));
@@ -308,6 +307,14 @@ class TrustRegionSearch {
       double a = 0.0;
       VectorX b;
       MatrixX m;
+
+      // m(c + D s) − a, and its gradient b + M s where `gradient` is given.
+      [[nodiscard]] double change(const Eigen::Ref<const VectorX>& s,
+                                  double* gradient = nullptr) const {
+        const VectorX ms = m * s;
+        if (gradient != nullptr) Eigen::Map<VectorX>(gradient, s.size()) = b + ms;
+        return b.dot(s) + 0.5 * s.dot(ms);
+      }
     };
 
     // Least squares to Q² at the finite points within twice the radius of c, each entry of M
@@ -388,9 +395,6 @@ class TrustRegionSearch {
         low(i) = std::max(-1.0, (lower(i) - c(i)) / scale(i));
         high(i) = std::min(1.0, (upper(i) - c(i)) / scale(i));
       }
-      const auto value = [&](const VectorX& s) {
-        return model.b.dot(s) + 0.5 * s.dot(model.m * s);
-      };
       VectorX second(d);
       const Eigen::LLT<MatrixX> llt(model.m);
       if (llt.info() == Eigen::Success) {
@@ -404,7 +408,7 @@ class TrustRegionSearch {
       for (const VectorX& from : {VectorX(VectorX::Zero(d)), second}) {
         VectorX s = from;
         polish(model, low, high, s);
-        const double m = value(s);
+        const double m = model.change(s);
         if (-m > found.predicted) found = {s, -m};
       }
       return found;
@@ -429,12 +433,7 @@ class TrustRegionSearch {
 
     static double model_value(unsigned n, const double* x, double* gradient, void* data) {
       const auto& model = *static_cast<const Model*>(data);
-      const Eigen::Map<const VectorX> s(x, static_cast<Index>(n));
-      const VectorX ms = model.m * s;
-      if (gradient != nullptr) {
-        Eigen::Map<VectorX>(gradient, static_cast<Index>(n)) = model.b + ms;
-      }
-      return model.b.dot(s) + 0.5 * s.dot(ms);
+      return model.change(Eigen::Map<const VectorX>(x, static_cast<Index>(n)), gradient);
     }
   };
 
