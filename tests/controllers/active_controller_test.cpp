@@ -112,6 +112,18 @@ TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {
   EXPECT_EQ(controller.offset_covariance(), covariance);
 }
 
+// Assembly t of the plant Q(x, u − δu*_t) under a slow drift; returns u_t.
+template <typename C, typename T>
+VectorX drifting_step(C& controller, const T& twin, const std::vector<AssemblyId>& assemblies,
+                      int t) {
+  const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+  const VectorX u = controller.propose(x);
+  const double s = static_cast<double>(t);
+  const VectorX offset = Eigen::Vector3d(0.1 * std::sin(0.05 * s), -0.08 + 0.002 * s, 0.05);
+  controller.observe(x, typename C::ControlVector(u), twin.quality(x, VectorX(u - offset)));
+  return u;
+}
+
 TEST(ActiveController, FallsBackToSigmaPointsForATwinThatIsNotQuadraticWhenAskedTo) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6),
@@ -147,6 +159,50 @@ TEST(ActiveController, WeighsTheModelErrorOfATwinThatIsNotQuadratic) {
     ASSERT_TRUE(controller.offset_estimate().allFinite());
   }
   EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
+}
+
+// Probes priced by the plant's regret: on a twin whose model errs, with an offset the plant
+// shows, a probe priced by regret is larger than the Probe policy's own, and the priced steps
+// report the regret that priced them; the first regret_window assemblies are not priced. On a
+// twin whose model passes its check the option changes nothing, control for control.
+TEST(ActiveController, PricesItsProbeByThePlantsRegretWhereTheModelErrs) {
+  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
+  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  ActiveController<RuggedTwin, Dynamic> priced(twin, RandomStream(6));
+  ActiveController<RuggedTwin, Dynamic> unpriced(twin, RandomStream(6),
+                                                 ActiveOptions{.regret_probe = 0.0});
+  const Index window = ActiveOptions{}.regret_window;
+  double priced_norm = 0.0;
+  double unpriced_norm = 0.0;
+  int priced_steps = 0;
+  for (int t = 0; t < 30; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
+    const VectorX u = priced.propose(x);
+    const VectorX v = unpriced.propose(x);
+    if (t < window) EXPECT_EQ(priced.last_step().plant_regret, 0.0) << "assembly " << t;
+    EXPECT_EQ(unpriced.last_step().plant_regret, 0.0);
+    if (priced.last_step().plant_regret > 0.0) {
+      ++priced_steps;
+      priced_norm += priced.last_step().probe_norm;
+      unpriced_norm += unpriced.last_step().probe_norm;
+    }
+    priced.observe(x, u, twin.quality(x, VectorX(u - offset)));
+    unpriced.observe(x, v, twin.quality(x, VectorX(v - offset)));
+  }
+  EXPECT_GT(priced_steps, 15);
+  EXPECT_GT(priced_norm, 3.0 * unpriced_norm);
+
+  const test_support::AnalyticTwin quadratic = test_support::make_twin(3);
+  ActiveController<test_support::AnalyticTwin, Dynamic> on(quadratic, RandomStream(6));
+  ActiveController<test_support::AnalyticTwin, Dynamic> off(quadratic, RandomStream(6),
+                                                            ActiveOptions{.regret_probe = 0.0});
+  const std::vector<AssemblyId> parts = quadratic.assemblies();
+  for (int t = 0; t < 40; ++t) {
+    EXPECT_EQ(drifting_step(on, quadratic, parts, t), drifting_step(off, quadratic, parts, t))
+        << "assembly " << t;
+    EXPECT_EQ(on.last_step().plant_regret, 0.0);
+  }
 }
 
 // Do no harm, measured: a plant that punishes every move away from u0 (the correction costs
@@ -251,6 +307,10 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
       ActiveOptions{.audit_period = 1}.validate(),
       "audit_period and audit_window: values are 1 and 10; rule: audit_period = 0 (no audit), or "
       "audit_period >= 2 and audit_window >= 3");
+  EXPECT_EQ(ActiveOptions{.regret_probe = -0.1}.validate(),
+            "regret_probe: value is -0.1; rule: must be finite and >= 0");
+  EXPECT_EQ(ActiveOptions{.regret_window = 0}.validate(),
+            "regret_window: value is 0; rule: must be >= 1");
   EXPECT_EQ(ActiveOptions{.audit_misfit = 0.5}.validate(),
             "audit_misfit: value is 0.5; rule: must be finite and >= 1");
   const test_support::AnalyticTwin twin = test_support::make_twin(2);
@@ -349,6 +409,15 @@ TEST(ActiveController, RefusesABadSnapshotAndKeepsItsState) {
   bad = good;
   bad["recent_innovations"].erase(0);  // a ring of another size
   EXPECT_THROW(tried.restore(bad), DimensionMismatchError);
+  bad = good;
+  bad["plant_regrets"].erase(0);
+  EXPECT_THROW(tried.restore(bad), DimensionMismatchError);
+  bad = good;
+  bad.erase("regret_count");
+  EXPECT_THAT([&] { tried.restore(bad); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  ::testing::HasSubstr("regret_count: field is missing")));
+  EXPECT_EQ(tried.save().dump(), state);
   bad = good;
   bad["probe"]["format"] = "twincal.information_probe";
   EXPECT_THROW(tried.restore(bad), InvalidArgumentError);

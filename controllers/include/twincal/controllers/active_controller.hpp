@@ -21,11 +21,12 @@
 ///   5. observe: z_t joins the estimator's history (or updates the random-walk filter, with an
 ///      innovation gate that inflates an overconfident P, process noise adapted to the
 ///      normalized innovations, and a floor and a ceiling on P's eigenvalues).
-/// Where Q² is not a quadratic (the model fails its check), three more rules hold: each
+/// Where Q² is not a quadratic (the model fails its check), four more rules hold: each
 /// assembly's residual is weighed by its model's error (ActiveOptions::weigh_model_error); the
 /// models of earlier assemblies are refitted where the fit now uses them
-/// (relinearization_budget); and the correction is audited against u0 on the plant's own
-/// answers (audit_period) — do no harm.
+/// (relinearization_budget); the probe is priced by the regret the plant shows rather than by P
+/// alone, and the model is fitted where that probe puts the plant (regret_probe); and the
+/// correction is audited against u0 on the plant's own answers (audit_period) — do no harm.
 /// Twin evaluations per assembly: d + 3 (model and check), (d + 1)(d + 2)/2 + 2 on a refit, plus
 /// up to (d + 1)² for refits of earlier models, plus the sigma points in the fallback — O(d²),
 /// against the paper's O(2^d) candidates × sigma points.
@@ -87,6 +88,7 @@ struct ActiveStepReport {
   double model_variance = 0.0;         ///< τ², the variance of the model's error in Q (estimator)
   bool hessian_refitted = false;       ///< this assembly paid for a full fit of H
   double probe_norm = 0.0;             ///< |p|
+  double plant_regret = 0.0;           ///< the plant's regret that priced p (regret_probe)
   double horizon = 0.0;                ///< T of the probe design
   double process_variance = 0.0;       ///< q of the random-walk filter (sigma-point mode)
   double normalized_innovation = 0.0;  ///< ν²/S of z against its prediction (after observe)
@@ -151,6 +153,8 @@ class ActiveCalibrationController {
     check_points_.resize(d, 2);
     recent_innovations_.assign(static_cast<std::size_t>(options_.trajectory.change_window) + 3,
                                0.0);
+    plant_regrets_.assign(static_cast<std::size_t>(options_.regret_window), 0.0);
+    regret_order_ = plant_regrets_;
     if constexpr (TwinWithKeptAssemblies<T>) {
       const auto kept = static_cast<std::size_t>(options_.trajectory.max_history);
       kept_assemblies_.resize(kept);
@@ -178,6 +182,9 @@ class ActiveCalibrationController {
   [[nodiscard]] ControlVector propose(const Assembly& assembly) {
     const IndividualControl u0 = optimum_(assembly);
     report_.reset();
+    // Where the last assembly's model erred, so will this one's: its probe is priced by the
+    // plant's regret and designed before the model, which is then fitted where it puts the plant.
+    const bool price_by_regret = options_.regret_probe > 0.0 && step_.model_variance > 0.0;
     step_ = ActiveStepReport{};
     report_.individual_control = u0.control;
     report_.optimal_quality = u0.quality;
@@ -187,6 +194,7 @@ class ActiveCalibrationController {
     center_ = u0.control;
 
     quadratic_ = false;
+    bool probe_designed = false;
     std::uint64_t evaluations = 0;
     time_ = assemblies_;
     if (assemblies_ >= retry_at_) {
@@ -201,6 +209,14 @@ class ActiveCalibrationController {
       model_center_ -= estimator_.position();
       // Within the twin's box, where it is defined (a lost estimate points outside it).
       model_center_ = model_center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
+      if (price_by_regret) {
+        design_probe();  // from the last assembly's model
+        price_probe_by_regret();
+        probe_designed = true;
+        model_center_ += probe_vector_;
+        model_center_ =
+            model_center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
+      }
       try {
         evaluations += fit_model(assembly, estimator_.position_covariance());
       } catch (const std::exception& error) {
@@ -221,21 +237,8 @@ class ActiveCalibrationController {
     report_.default_control = center_ + mean_;
 
     if (quadratic_) {
-      // The probe, priced by the model. T = tr(HP)/tr(HQ) (for designs that price information,
-      // as InformationProbe): the assemblies a random walk of variance q takes to add back the
-      // uncertainty there is now.
-      const double refill = process_variance_ * model_.hessian.trace();
-      const double uncertainty = model_.hessian.cwiseProduct(covariance_).sum();  // tr(HP)
-      step_.horizon = refill > 0.0 ? std::clamp(uncertainty / refill, 1.0, options_.max_horizon)
-                                   : options_.max_horizon;
-      const ProbeContext<N> context{.hessian = model_.hessian,
-                                    .half_gradient = model_.half_gradient,
-                                    .covariance = covariance_,
-                                    .value = model_.value,
-                                    .measurement_variance = options_.measurement_variance,
-                                    .horizon = step_.horizon,
-                                    .max_probe = max_probe_};
-      probe_.design(context, probe_vector_);
+      // The probe, priced by the model (unless it was priced by regret before the fit).
+      if (!probe_designed) design_probe();
     } else {
       // Without a model that holds, a probe cannot be priced: the controller is then the
       // default controller (eq. 9) with a sigma-point update. (Probing along P's axes with
@@ -318,10 +321,11 @@ class ActiveCalibrationController {
   /// its age, the probe's stream; the counters (assemblies, the pending proposal's time, the
   /// retry of the quadratic model); the pending proposal (u_t, whether its model held, the
   /// model, which observe updates with); the do-no-harm rings (normalized innovations, the
-  /// audit's regrets and counts); the assemblies kept for relinearization; and the last
-  /// proposal's reports. Not the workspaces (sigma points, check points, the eigensolver of the
-  /// covariance bound, the relinearization candidates), which are rewritten before they are
-  /// read, nor the settings derived from the twin's box.
+  /// audit's regrets and counts); the plant's last regrets, which price the probe; the
+  /// assemblies kept for relinearization; and the last proposal's reports. Not the workspaces
+  /// (sigma points, check points, the eigensolver of the covariance bound, the relinearization
+  /// candidates), which are rewritten before they are read, nor the settings derived from the
+  /// twin's box.
   [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
     using json_state::doubles_to_json;
     using json_state::number_to_json;
@@ -341,6 +345,8 @@ class ActiveCalibrationController {
         {"model", json_state::model_to_json(model_)},
         {"recent_innovations", doubles_to_json(recent_innovations_)},
         {"innovation_count", innovation_count_},
+        {"plant_regrets", doubles_to_json(plant_regrets_)},
+        {"regret_count", regret_count_},
         {"regrets", {doubles_to_json(regrets_[0]), doubles_to_json(regrets_[1])}},
         {"audit_counts", {audit_counts_[0], audit_counts_[1]}},
         {"audits", audits_},
@@ -399,6 +405,10 @@ class ActiveCalibrationController {
                              recent_innovations);
     const auto innovation_count =
         static_cast<std::size_t>(json_state::read_count(saved, "innovation_count"));
+    std::vector<double> plant_regrets = plant_regrets_;
+    json_state::read_doubles(field(saved, "plant_regrets"), "plant_regrets", plant_regrets);
+    const auto regret_count =
+        static_cast<std::size_t>(json_state::read_count(saved, "regret_count"));
     const nlohmann::json& saved_regrets =
         json_state::require_array(field(saved, "regrets"), "regrets", 2);
     const nlohmann::json& saved_counts =
@@ -480,6 +490,8 @@ class ActiveCalibrationController {
     model_ = std::move(model);
     recent_innovations_.swap(recent_innovations);
     innovation_count_ = innovation_count;
+    plant_regrets_.swap(plant_regrets);
+    regret_count_ = regret_count;
     regrets_.swap(regrets);
     audit_counts_ = audit_counts;
     audits_ = audits;
@@ -495,6 +507,45 @@ class ActiveCalibrationController {
   }
 
  private:
+  // The probe of the Probe policy, priced by model_. T = tr(HP)/tr(HQ) (for designs that price
+  // information, as InformationProbe): the assemblies a random walk of variance q takes to add
+  // back the uncertainty there is now.
+  void design_probe() {
+    const double refill = process_variance_ * model_.hessian.trace();
+    const double uncertainty = model_.hessian.cwiseProduct(covariance_).sum();  // tr(HP)
+    step_.horizon = refill > 0.0 ? std::clamp(uncertainty / refill, 1.0, options_.max_horizon)
+                                 : options_.max_horizon;
+    const ProbeContext<N> context{.hessian = model_.hessian,
+                                  .half_gradient = model_.half_gradient,
+                                  .covariance = covariance_,
+                                  .value = model_.value,
+                                  .measurement_variance = options_.measurement_variance,
+                                  .horizon = step_.horizon,
+                                  .max_probe = max_probe_};
+    probe_.design(context, probe_vector_);
+  }
+
+  // Scales the probe up, where its model cost pᵀHp is smaller, to regret_probe × the regret the
+  // plant shows: the median of its last regret_window regrets z² − z*², less twice the noise σz
+  // puts in z² (2 z* σz), then clipped to the largest probe. Nothing before the window is full,
+  // for a zero probe, or where the regret is within the noise (the door: its quality hardly
+  // depends on the offset, and a probe priced by noise cost 16 times the baseline's residual).
+  void price_probe_by_regret() {
+    if (regret_count_ < plant_regrets_.size()) return;
+    std::copy(plant_regrets_.begin(), plant_regrets_.end(), regret_order_.begin());
+    const auto middle = regret_order_.begin() + std::ssize(regret_order_) / 2;
+    std::nth_element(regret_order_.begin(), middle, regret_order_.end());
+    const double noise = 2.0 * report_.optimal_quality * std::sqrt(options_.measurement_variance);
+    const double regret = *middle - 2.0 * noise;
+    const double cost = probe_vector_.dot(model_.hessian * probe_vector_);
+    if (!(regret > 0.0) || !(cost > 0.0)) return;
+    step_.plant_regret = regret;
+    const double wanted = options_.regret_probe * regret;
+    if (cost >= wanted) return;
+    probe_vector_ *= std::sqrt(wanted / cost);
+    probe_vector_ = probe_vector_.cwiseMax(-max_probe_).cwiseMin(max_probe_);
+  }
+
   // Fits the quadratic model at model_center_ and checks it at model_center_ ± (2·sqrt(diag P)
   // + h) in a sign pattern, P the offset's covariance and h the surrogate's step (where the
   // model will be used: within the estimate's uncertainty of the point it expects); a failed
@@ -548,6 +599,9 @@ class ActiveCalibrationController {
 
   // The estimator's update: z joins the history, and the estimate moves to the next assembly.
   void update_estimator(const Assembly& assembly, const ControlVector& control, double z) {
+    const double best = report_.optimal_quality;
+    plant_regrets_[regret_count_ % plant_regrets_.size()] = z * z - best * best;
+    ++regret_count_;
     step_.normalized_innovation = estimator_.add(time_, model_, control, z, step_.model_variance);
     recent_innovations_[innovation_count_ % recent_innovations_.size()] =
         step_.normalized_innovation;
@@ -746,6 +800,7 @@ class ActiveCalibrationController {
             {"model_variance", number_to_json(step.model_variance)},
             {"hessian_refitted", step.hessian_refitted},
             {"probe_norm", number_to_json(step.probe_norm)},
+            {"plant_regret", number_to_json(step.plant_regret)},
             {"horizon", number_to_json(step.horizon)},
             {"process_variance", number_to_json(step.process_variance)},
             {"normalized_innovation", number_to_json(step.normalized_innovation)},
@@ -766,6 +821,7 @@ class ActiveCalibrationController {
     step.model_variance = read_double_field(saved, "model_variance", Values::any);
     step.hessian_refitted = read_bool(saved, "hessian_refitted");
     step.probe_norm = read_double_field(saved, "probe_norm", Values::any);
+    step.plant_regret = read_double_field(saved, "plant_regret", Values::any);
     step.horizon = read_double_field(saved, "horizon", Values::any);
     step.process_variance = read_double_field(saved, "process_variance", Values::any);
     step.normalized_innovation = read_double_field(saved, "normalized_innovation", Values::any);
@@ -840,6 +896,11 @@ class ActiveCalibrationController {
   std::array<std::vector<double>, 2> pair_regrets_;
   std::size_t audit_pairs_ = 0;
   AuditedAssembly last_audit_;
+  // The plant's regrets z² − z*² of the last regret_window assemblies the estimator updated
+  // with (a ring), their count, and a workspace for their median.
+  std::vector<double> plant_regrets_;
+  std::size_t regret_count_ = 0;
+  std::vector<double> regret_order_;
   std::vector<double> recent_innovations_;  // ν²/S of the last change_window + 3 (a ring)
   std::size_t innovation_count_ = 0;
   bool quadratic_ = false;

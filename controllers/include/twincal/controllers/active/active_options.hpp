@@ -72,6 +72,23 @@ struct ActiveOptions {
   /// contact twins (d = 6, 12): 1.1 and 1.0 × the baseline without, 0.43 and 0.71 × with 1; 2 or
   /// more adds evaluations for little (docs/reproduction.md, "Black-box twins").
   double relinearization_budget = 1.0;
+  /// Probes priced by the plant's regret: where the last assembly's model failed its check, a
+  /// probe whose model cost pᵀHp is below regret_probe × the regret the plant shows — the median
+  /// of its z² − z*² over the last regret_window assemblies (z* the twin's optimum at x_t, which
+  /// is the plant's too) less twice the noise σz puts in z² (2 z* σz) — is scaled up to it, then
+  /// clipped to max_probe_fraction; it is designed before the assembly's model (from the last
+  /// one's H), and the model is fitted where the probe puts the plant if the estimate is right.
+  /// Where models err P is overconfident (a lost contact run at d = 12: √tr P 0.07 mm against an
+  /// error of 1–1.4 mm), so a probe drawn from P teaches nothing, while the plant's regret does
+  /// not depend on P: a probe that costs a fixed share of it pays where the correction is wrong
+  /// and fades where it is right. 0: probes from the Probe policy alone. Measured over five
+  /// development seed pairs (contact, stiffening, kinks at d = 3, 6, 12, 19; 10 runs each): lost
+  /// runs 138 → 77, kinks at d = 12 0.38–0.68 → 0.21–0.39 × the baseline; contact at d ≥ 12 better
+  /// on some pairs and worse on others (without the noise term, 0.05 lost more runs and 0.2 cost
+  /// contact at d = 19; docs/reproduction.md, "Black-box twins"). Twins whose model passes its
+  /// check are unchanged.
+  double regret_probe = 0.1;
+  Index regret_window = 5;
   /// Do no harm, measured: where the model failed its check, every audit_period-th corrected
   /// assembly is left uncorrected (or the reverse while the correction is off; a correction that
   /// halves the regret is audited four times less often), and the correction stays on only while
@@ -112,12 +129,15 @@ struct ActiveOptions {
          rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
          rule::at_least("quadratic_retry", quadratic_retry, Index{1}),
          rule::non_negative_finite("relinearization_budget", relinearization_budget),
+         rule::non_negative_finite("regret_probe", regret_probe),
+         rule::at_least("regret_window", regret_window, Index{1}),
          rule::check_fields(
              audit_period == 0 || (audit_period >= 2 && audit_window >= 3),
              "audit_period and audit_window", std::array{audit_period, audit_window},
              "audit_period = 0 (no audit), or audit_period >= 2 and audit_window >= 3"),
          rule::finite_at_least("audit_misfit", audit_misfit, 1.0),
-         rule::nested("surrogate", surrogate), rule::nested("trajectory", trajectory)});
+         rule::nested("surrogate", surrogate),
+         rule::nested("trajectory", trajectory)});
   }
 };
 
