@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -205,6 +206,38 @@ TEST(ActiveController, PricesItsProbeByThePlantsRegretWhereTheModelErrs) {
   }
 }
 
+// Models refitted where the fit uses them (relinearization_reach): a reach beyond every entry's
+// stencil refits nothing — the same controls as a budget of 0 — while the default reach refits
+// entries on a twin whose model errs, and pays for them in twin evaluations.
+TEST(ActiveController, RefitsTheModelsTheFitMovesBeyondTheirReach) {
+  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
+  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  ActiveController<RuggedTwin, Dynamic> refitting(twin, RandomStream(6));
+  ActiveController<RuggedTwin, Dynamic> out_of_reach(twin, RandomStream(6),
+                                                     ActiveOptions{.relinearization_reach = 1e300});
+  ActiveController<RuggedTwin, Dynamic> unbudgeted(twin, RandomStream(6),
+                                                   ActiveOptions{.relinearization_budget = 0.0});
+  std::uint64_t refitting_evaluations = 0;
+  std::uint64_t out_of_reach_evaluations = 0;
+  for (int t = 0; t < 30; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
+    const VectorX u = refitting.propose(x);
+    const VectorX v = out_of_reach.propose(x);
+    const VectorX w = unbudgeted.propose(x);
+    EXPECT_TRUE(v == w) << "assembly " << t;
+    refitting.observe(x, u, twin.quality(x, VectorX(u - offset)));
+    out_of_reach.observe(x, v, twin.quality(x, VectorX(v - offset)));
+    unbudgeted.observe(x, w, twin.quality(x, VectorX(w - offset)));
+    // Refits are counted with the proposal they follow (observe adds them).
+    refitting_evaluations += refitting.last_proposal().quality_evaluations;
+    out_of_reach_evaluations += out_of_reach.last_proposal().quality_evaluations;
+    EXPECT_EQ(out_of_reach.last_proposal().quality_evaluations,
+              unbudgeted.last_proposal().quality_evaluations);
+  }
+  EXPECT_GT(refitting_evaluations, out_of_reach_evaluations + 30);
+}
+
 // Do no harm, measured: a plant that punishes every move away from u0 (the correction costs
 // more than it saves) gets, once the audit has compared the two arms, corrections only at the
 // audit's own assemblies (every audit_period-th); with the audit off no assembly is audited.
@@ -303,6 +336,8 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
             "surrogate.tolerance: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),
             "relinearization_budget: value is -1; rule: must be finite and >= 0");
+  EXPECT_EQ(ActiveOptions{.relinearization_reach = -0.5}.validate(),
+            "relinearization_reach: value is -0.5; rule: must be finite and >= 0");
   EXPECT_EQ(
       ActiveOptions{.audit_period = 1}.validate(),
       "audit_period and audit_window: values are 1 and 10; rule: audit_period = 0 (no audit), or "

@@ -24,12 +24,14 @@
 /// Where Q² is not a quadratic (the model fails its check), four more rules hold: each
 /// assembly's residual is weighed by its model's error (ActiveOptions::weigh_model_error); the
 /// models of earlier assemblies are refitted where the fit now uses them
-/// (relinearization_budget); the probe is priced by the regret the plant shows rather than by P
-/// alone, and the model is fitted where that probe puts the plant (regret_probe); and the
-/// correction is audited against u0 on the plant's own answers (audit_period) — do no harm.
+/// (relinearization_budget, relinearization_reach); the probe is priced by the regret the plant
+/// shows rather than by P alone, and the model is fitted where that probe puts the plant
+/// (regret_probe); and the correction is audited against u0 on the plant's own answers
+/// (audit_period) — do no harm.
 /// Twin evaluations per assembly: d + 3 (model and check), (d + 1)(d + 2)/2 + 2 on a refit, plus
-/// up to (d + 1)² for refits of earlier models, plus the sigma points in the fallback — O(d²),
-/// against the paper's O(2^d) candidates × sigma points.
+/// up to relinearization_budget · (d + 1)² (2 (d + 1)² by default) for refits of earlier models,
+/// plus the sigma points in the fallback — O(d²), against the paper's O(2^d) candidates × sigma
+/// points.
 ///
 /// Failure policy: when fitting or checking the model fails (a twin error, a non-finite value),
 /// the assembly runs in the sigma-point mode with p = 0, and last_proposal().fallback says why;
@@ -621,8 +623,9 @@ class ActiveCalibrationController {
   }
 
   // Refits the models of the history's entries that the fit now uses farthest beyond their
-  // finite-difference stencil (|r_i| > h_i on some locator, r the entry's point under the fit
-  // minus its model's centre), at most relinearization_budget · (d + 1) of them (d + 1
+  // finite-difference stencil (|r_i| > relinearization_reach · h_i on some locator, r the entry's
+  // point under the fit minus its model's centre), at most relinearization_budget · (d + 1) of
+  // them (d + 1
   // evaluations each): Gauss–Newton on the twin itself, with the quadratic model only between
   // refits. Only entries whose model failed its check (τ² > 0) are refitted: elsewhere the model
   // is the twin. Returns whether any entry changed.
@@ -639,7 +642,7 @@ class ActiveCalibrationController {
       if (kept_times_[at] != time) continue;
       estimator_.entry_point(i, entry_point_, entry_offset_);
       const double reach = entry_offset_.cwiseAbs().cwiseQuotient(check_margin_).maxCoeff();
-      if (reach > 1.0) candidates_.emplace_back(reach, i);
+      if (reach > options_.relinearization_reach) candidates_.emplace_back(reach, i);
     }
     const auto count = std::min(static_cast<std::ptrdiff_t>(budget), std::ssize(candidates_));
     std::partial_sort(candidates_.begin(), candidates_.begin() + count, candidates_.end(),
