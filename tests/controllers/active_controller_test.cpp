@@ -162,25 +162,38 @@ TEST(ActiveController, WeighsTheModelErrorOfATwinThatIsNotQuadratic) {
   EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
 }
 
+// A twin whose local model fails its check (RuggedTwin) behind a plant with an offset it shows.
+struct RuggedPlant {
+  RuggedTwin twin{RuggedTwinOptions{}, RandomStream(5)};
+  VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  std::vector<AssemblyId> assemblies = twin.assemblies();
+
+  [[nodiscard]] const AssemblyId& assembly(int t) const {
+    return assemblies[static_cast<std::size_t>(t)];
+  }
+  // The plant's answer to control u for assembly t, observed by the controller.
+  template <typename C>
+  void answer(C& controller, int t, const VectorX& u) const {
+    controller.observe(assembly(t), u, twin.quality(assembly(t), VectorX(u - offset)));
+  }
+};
+
 // Probes priced by the plant's regret: on a twin whose model errs, with an offset the plant
 // shows, a probe priced by regret is larger than the Probe policy's own, and the priced steps
 // report the regret that priced them; the first regret_window assemblies are not priced. On a
 // twin whose model passes its check the option changes nothing, control for control.
 TEST(ActiveController, PricesItsProbeByThePlantsRegretWhereTheModelErrs) {
-  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
-  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
-  const std::vector<AssemblyId> assemblies = twin.assemblies();
-  ActiveController<RuggedTwin, Dynamic> priced(twin, RandomStream(6));
-  ActiveController<RuggedTwin, Dynamic> unpriced(twin, RandomStream(6),
+  const RuggedPlant plant;
+  ActiveController<RuggedTwin, Dynamic> priced(plant.twin, RandomStream(6));
+  ActiveController<RuggedTwin, Dynamic> unpriced(plant.twin, RandomStream(6),
                                                  ActiveOptions{.regret_probe = 0.0});
   const Index window = ActiveOptions{}.regret_window;
   double priced_norm = 0.0;
   double unpriced_norm = 0.0;
   int priced_steps = 0;
   for (int t = 0; t < 30; ++t) {
-    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
-    const VectorX u = priced.propose(x);
-    const VectorX v = unpriced.propose(x);
+    const VectorX u = priced.propose(plant.assembly(t));
+    const VectorX v = unpriced.propose(plant.assembly(t));
     if (t < window) EXPECT_EQ(priced.last_step().plant_regret, 0.0) << "assembly " << t;
     EXPECT_EQ(unpriced.last_step().plant_regret, 0.0);
     if (priced.last_step().plant_regret > 0.0) {
@@ -188,8 +201,8 @@ TEST(ActiveController, PricesItsProbeByThePlantsRegretWhereTheModelErrs) {
       priced_norm += priced.last_step().probe_norm;
       unpriced_norm += unpriced.last_step().probe_norm;
     }
-    priced.observe(x, u, twin.quality(x, VectorX(u - offset)));
-    unpriced.observe(x, v, twin.quality(x, VectorX(v - offset)));
+    plant.answer(priced, t, u);
+    plant.answer(unpriced, t, v);
   }
   EXPECT_GT(priced_steps, 15);
   EXPECT_GT(priced_norm, 3.0 * unpriced_norm);
@@ -210,25 +223,22 @@ TEST(ActiveController, PricesItsProbeByThePlantsRegretWhereTheModelErrs) {
 // stencil refits nothing — the same controls as a budget of 0 — while the default reach refits
 // entries on a twin whose model errs, and pays for them in twin evaluations.
 TEST(ActiveController, RefitsTheModelsTheFitMovesBeyondTheirReach) {
-  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
-  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
-  const std::vector<AssemblyId> assemblies = twin.assemblies();
-  ActiveController<RuggedTwin, Dynamic> refitting(twin, RandomStream(6));
-  ActiveController<RuggedTwin, Dynamic> out_of_reach(twin, RandomStream(6),
+  const RuggedPlant plant;
+  ActiveController<RuggedTwin, Dynamic> refitting(plant.twin, RandomStream(6));
+  ActiveController<RuggedTwin, Dynamic> out_of_reach(plant.twin, RandomStream(6),
                                                      ActiveOptions{.relinearization_reach = 1e300});
-  ActiveController<RuggedTwin, Dynamic> unbudgeted(twin, RandomStream(6),
+  ActiveController<RuggedTwin, Dynamic> unbudgeted(plant.twin, RandomStream(6),
                                                    ActiveOptions{.relinearization_budget = 0.0});
   std::uint64_t refitting_evaluations = 0;
   std::uint64_t out_of_reach_evaluations = 0;
   for (int t = 0; t < 30; ++t) {
-    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
-    const VectorX u = refitting.propose(x);
-    const VectorX v = out_of_reach.propose(x);
-    const VectorX w = unbudgeted.propose(x);
+    const VectorX u = refitting.propose(plant.assembly(t));
+    const VectorX v = out_of_reach.propose(plant.assembly(t));
+    const VectorX w = unbudgeted.propose(plant.assembly(t));
     EXPECT_TRUE(v == w) << "assembly " << t;
-    refitting.observe(x, u, twin.quality(x, VectorX(u - offset)));
-    out_of_reach.observe(x, v, twin.quality(x, VectorX(v - offset)));
-    unbudgeted.observe(x, w, twin.quality(x, VectorX(w - offset)));
+    plant.answer(refitting, t, u);
+    plant.answer(out_of_reach, t, v);
+    plant.answer(unbudgeted, t, w);
     // Refits are counted with the proposal they follow (observe adds them).
     refitting_evaluations += refitting.last_proposal().quality_evaluations;
     out_of_reach_evaluations += out_of_reach.last_proposal().quality_evaluations;
