@@ -70,6 +70,7 @@
 #include "twincal/core/cholesky.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/median.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/core/symmetrize.hpp"
@@ -534,11 +535,9 @@ class ActiveCalibrationController {
   // depends on the offset, and a probe priced by noise cost 16 times the baseline's residual).
   void price_probe_by_regret() {
     if (regret_count_ < plant_regrets_.size()) return;
-    std::copy(plant_regrets_.begin(), plant_regrets_.end(), regret_order_.begin());
-    const auto middle = regret_order_.begin() + std::ssize(regret_order_) / 2;
-    std::nth_element(regret_order_.begin(), middle, regret_order_.end());
     const double noise = 2.0 * report_.optimal_quality * std::sqrt(options_.measurement_variance);
-    const double regret = *middle - 2.0 * noise;
+    const double regret =
+        median_of_first(plant_regrets_, plant_regrets_.size(), regret_order_) - 2.0 * noise;
     const double cost = probe_vector_.dot(model_.hessian * probe_vector_);
     if (!(regret > 0.0) || !(cost > 0.0)) return;
     step_.plant_regret = regret;
@@ -625,10 +624,9 @@ class ActiveCalibrationController {
   // Refits the models of the history's entries that the fit now uses farthest beyond their
   // finite-difference stencil (|r_i| > relinearization_reach · h_i on some locator, r the entry's
   // point under the fit minus its model's centre), at most relinearization_budget · (d + 1) of
-  // them (d + 1
-  // evaluations each): Gauss–Newton on the twin itself, with the quadratic model only between
-  // refits. Only entries whose model failed its check (τ² > 0) are refitted: elsewhere the model
-  // is the twin. Returns whether any entry changed.
+  // them (d + 1 evaluations each): Gauss–Newton on the twin itself, with the quadratic model only
+  // between refits. Only entries whose model failed its check (τ² > 0) are refitted: elsewhere the
+  // model is the twin. Returns whether any entry changed.
   bool relinearize() {
     const Index d = dimension();
     const Index budget =

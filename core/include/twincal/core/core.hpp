@@ -11,6 +11,7 @@
 #include "twincal/core/format.hpp"
 #include "twincal/core/gaussian.hpp"
 #include "twincal/core/json_nesting.hpp"
+#include "twincal/core/median.hpp"
 #include "twincal/core/name_table.hpp"
 #include "twincal/core/named_enum.hpp"
 #include "twincal/core/options.hpp"

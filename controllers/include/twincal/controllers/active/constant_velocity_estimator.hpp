@@ -58,6 +58,7 @@
 #include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/median.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/symmetrize.hpp"
 #include "twincal/core/validate.hpp"
@@ -557,11 +558,7 @@ class ConstantVelocityEstimator {
       ++count_;
       const std::size_t kept = std::min(ring_.size(), count_);
       if (kept < ring_.size() / 2 + 1) return;
-      std::copy_n(ring_.begin(), kept, sorted_.begin());
-      const auto middle = sorted_.begin() + static_cast<std::ptrdiff_t>(kept / 2);
-      std::nth_element(sorted_.begin(), middle,
-                       sorted_.begin() + static_cast<std::ptrdiff_t>(kept));
-      scale_ = std::max(1.0, *middle / chi2_median);
+      scale_ = std::max(1.0, median_of_first(ring_, kept, sorted_) / chi2_median);
     }
     [[nodiscard]] double scale() const noexcept { return scale_; }
 
