@@ -4,9 +4,9 @@
 
 #include <fmt/format.h>
 
+#include "twincal/core/bounded_least_squares.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
-#include "twincal/sheet_metal/bounded_least_squares.hpp"
 
 namespace twincal {
 namespace {

@@ -258,6 +258,19 @@ void ContactSheetMetalTwin::quality_batch(const AssemblyId& assembly,
   for (Index j = 0; j < controls.cols(); ++j) out(j) = evaluate(c, controls.col(j), scratch);
 }
 
+void ContactSheetMetalTwin::deviations_batch(const AssemblyId& assembly,
+                                             const Eigen::Ref<const MatrixX>& controls,
+                                             Eigen::Ref<MatrixX> out) const {
+  require_deviations_batch(controls, out, control_dimension(), key_point_count());
+  require_finite("controls", controls);
+  const Index c = column(assembly);
+  Scratch scratch(key_response_.rows(), pair_count());
+  for (Index j = 0; j < controls.cols(); ++j) {
+    (void)evaluate(c, controls.col(j), scratch);
+    out.col(j) = scratch.deviation;
+  }
+}
+
 SheetMetalContactState ContactSheetMetalTwin::contact_state(
     const AssemblyId& assembly, const Eigen::Ref<const VectorX>& control) const {
   require_control(control, control_dimension());

@@ -8,11 +8,11 @@
 #include <fmt/format.h>
 #include <Eigen/QR>
 
+#include "twincal/core/bounded_least_squares.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/core/validate.hpp"
-#include "twincal/sheet_metal/bounded_least_squares.hpp"
 #include "twincal/sheet_metal/sheet_metal_process.hpp"
 
 namespace twincal {
@@ -233,6 +233,21 @@ VectorX SheetMetalTwin::key_deviation(const AssemblyId& assembly,
   VectorX y = upper_response_.col(i) + lower_response_.col(j);
   y.noalias() += influence_ * control;
   return y;
+}
+
+void SheetMetalTwin::deviations_batch(const AssemblyId& assembly,
+                                      const Eigen::Ref<const MatrixX>& controls,
+                                      Eigen::Ref<MatrixX> out) const {
+  require_deviations_batch(controls, out, control_dimension(), key_point_count());
+  const Index c = column(assembly);
+  const Index i = c / lower_part_count();
+  const Index j = c % lower_part_count();
+  // Column by column, as key_deviation: a matrix product sums in another order than a
+  // matrix-vector one, and a batch must give each control's deviations to the bit.
+  for (Index k = 0; k < controls.cols(); ++k) {
+    out.col(k) = upper_response_.col(i) + lower_response_.col(j);
+    out.col(k).noalias() += influence_ * controls.col(k);
+  }
 }
 
 const VectorX& SheetMetalTwin::upper_part(Index i) const {

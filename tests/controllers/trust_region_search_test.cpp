@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "affine_key_points.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
@@ -19,22 +20,14 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::ThrowsMessage;
 
-// Q(u) = RMS(a + B u) over m key points: Q² is exactly a quadratic, its minimum over the box
-// known from the normal equations when it is interior.
-struct RmsAffine {
-  MatrixX b;
-  VectorX a;
+using search_test_support::AffineKeyPoints;
+using search_test_support::total;
 
-  RmsAffine(Index m, Index d, std::uint64_t seed) : b(m, d), a(m) {
-    RandomStream draws = RandomStream(seed).substream("trust region test");
-    draws.fill_normal(b);
-    draws.fill_normal(a);
-    a *= 0.3;
-  }
-  [[nodiscard]] double operator()(const Eigen::Ref<const VectorX>& u) const {
-    return std::sqrt((a + b * u).squaredNorm() / static_cast<double>(a.size()));
-  }
-  [[nodiscard]] VectorX argmin() const { return b.colPivHouseholderQr().solve(-a); }
+// Q(u) = RMS(a + B u) as the twin's only answer.
+struct RmsAffine : AffineKeyPoints {
+  RmsAffine(Index m, Index d, std::uint64_t seed)
+      : AffineKeyPoints(m, d, seed, "trust region test") {}
+  [[nodiscard]] double operator()(const Eigen::Ref<const VectorX>& u) const { return quality(u); }
   // H = ∇²Q²/2 = BᵀB/m.
   [[nodiscard]] MatrixX curvature() const {
     return b.transpose() * b / static_cast<double>(a.size());
@@ -45,22 +38,11 @@ struct RmsAffine {
     return [this, lower, upper, &batch_sizes](const Eigen::Ref<const MatrixX>& points,
                                               Eigen::Ref<VectorX> values) {
       EXPECT_EQ(values.size(), points.cols());
-      batch_sizes.push_back(points.cols());
-      for (Index k = 0; k < points.cols(); ++k) {
-        EXPECT_TRUE((points.col(k).array() >= lower.array()).all() &&
-                    (points.col(k).array() <= upper.array()).all())
-            << "column " << k << " leaves the box";
-        values(k) = (*this)(points.col(k));
-      }
+      check_batch(points, lower, upper, batch_sizes);
+      for (Index k = 0; k < points.cols(); ++k) values(k) = quality(points.col(k));
     };
   }
 };
-
-Index total(const std::vector<Index>& sizes) {
-  Index sum = 0;
-  for (const Index s : sizes) sum += s;
-  return sum;
-}
 
 // It stops once its radius is below final_radius of the box, so it finds u0 to about that;
 // with a tiny final_radius it finds it to round-off, the fit being exact for a quadratic Q².

@@ -1,8 +1,15 @@
 #include "twincal/experiments/any_twin.hpp"
 
+#include <utility>
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "twincal/controllers/searched_optimum_twin.hpp"
+#include "twincal/core/error.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/models/key_point_twin.hpp"
+#include "twincal/models/kink_nonlinearity.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
 
 namespace twincal {
@@ -28,6 +35,35 @@ TEST(AnyTwin, ForwardsEveryCallToTheWrappedTwin) {
   any.quality_batch(x, controls, a);
   twin.quality_batch(x, controls, b);
   EXPECT_EQ(a, b);
+}
+
+TEST(AnyTwin, ForwardsTheDeviationsOfATwinThatAnswersThem) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 3;
+  const KeyPointTwin<KinkNonlinearity> twin(options, RandomStream(6));
+  // Through a SearchedOptimumTwin, as the experiments wrap it (it passes the deviations on).
+  SearchedOptimumTwin<KeyPointTwin<KinkNonlinearity>> searched(twin, {{4, 1}});
+  const AnyTwin any(std::move(searched), {{4, 1}}, {0, 1, 2});
+  ASSERT_EQ(any.key_point_count(), twin.key_point_count());
+  const Eigen::MatrixXd controls = Eigen::MatrixXd::Constant(3, 2, -0.3);
+  Eigen::MatrixXd a(twin.key_point_count(), 2);
+  Eigen::MatrixXd b(twin.key_point_count(), 2);
+  any.deviations_batch({4, 1}, controls, a);
+  twin.deviations_batch({4, 1}, controls, b);
+  EXPECT_EQ(a, b);
+}
+
+TEST(AnyTwin, ATwinThatAnswersOnlyItsQualityHasNoKeyPoints) {
+  const RmsQuadraticTwin twin = RmsQuadraticTwin::generate({}, RandomStream(5));
+  const AnyTwin any(twin, twin.assemblies(), {0});
+  EXPECT_EQ(any.key_point_count(), 0);
+  Eigen::MatrixXd out(1, 1);
+  EXPECT_THAT(
+      [&] {
+        any.deviations_batch({0, 0}, Eigen::MatrixXd::Zero(3, 1), out);
+      },
+      ::testing::ThrowsMessage<InvalidArgumentError>(
+          ::testing::HasSubstr("deviations: this twin answers only its quality")));
 }
 
 TEST(AnyTwin, CopiesShareTheTwin) {

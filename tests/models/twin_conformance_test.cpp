@@ -2,6 +2,7 @@
 // the analytic twins, the key-point twin with each nonlinearity, a locator subset and evaluators.
 // The sheet-metal FEM twins are instantiated in tests/sheet_metal/twin_conformance_test.cpp.
 #include "twincal/models/testing/twin_conformance.hpp"
+#include "twincal/models/testing/deviations_conformance.hpp"
 
 #include <vector>
 
@@ -95,9 +96,16 @@ using Twins =
                      KeyPointCase<KinkNonlinearity>, LocatorSubsetCase, SerialEvaluatorCase,
                      ParallelMemoizingEvaluatorCase>;
 
+// The twins that answer their key points' deviations.
+using TwinsWithDeviations =
+    ::testing::Types<KeyPointCase<NoNonlinearity>, KeyPointCase<ContactNonlinearity>,
+                     KeyPointCase<StiffeningNonlinearity>, KeyPointCase<KinkNonlinearity>>;
+
 }  // namespace
 }  // namespace twincal::twin_conformance_test
 
 namespace twincal::conformance {
 INSTANTIATE_TYPED_TEST_SUITE_P(Models, TwinConformance, twin_conformance_test::Twins);
+INSTANTIATE_TYPED_TEST_SUITE_P(Models, DeviationsConformance,
+                               twin_conformance_test::TwinsWithDeviations);
 }  // namespace twincal::conformance

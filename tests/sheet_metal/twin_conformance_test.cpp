@@ -3,6 +3,7 @@
 // joints (body-like and door-like releases), the contact ones with touching flanges so that
 // contacts open and close inside the box.
 #include "twincal/models/testing/twin_conformance.hpp"
+#include "twincal/models/testing/deviations_conformance.hpp"
 
 #include <vector>
 
@@ -61,5 +62,7 @@ using Twins =
 
 namespace twincal::conformance {
 INSTANTIATE_TYPED_TEST_SUITE_P(SheetMetal, TwinConformance,
+                               sheet_metal_twin_conformance_test::Twins);
+INSTANTIATE_TYPED_TEST_SUITE_P(SheetMetal, DeviationsConformance,
                                sheet_metal_twin_conformance_test::Twins);
 }  // namespace twincal::conformance

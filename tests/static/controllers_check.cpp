@@ -9,6 +9,7 @@
 #include "twincal/controllers/expected_quality.hpp"
 #include "twincal/controllers/exploitation_loss.hpp"
 #include "twincal/controllers/exploration_loss.hpp"
+#include "twincal/controllers/least_squares_search.hpp"
 #include "twincal/controllers/log_det_loss.hpp"
 #include "twincal/controllers/max_eigenvalue_loss.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
@@ -20,6 +21,7 @@
 #include "twincal/controllers/trace_loss.hpp"
 #include "twincal/controllers/trust_region_search.hpp"
 #include "twincal/controllers/weighted_trace_loss.hpp"
+#include "twincal/models/contact_nonlinearity.hpp"
 #include "twincal/models/key_point_twin.hpp"
 #include "twincal/models/no_nonlinearity.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
@@ -113,5 +115,12 @@ static_assert(BatchOptimizer<TrustRegionSearch>);
 static_assert(!BatchOptimizer<NloptOptimizer>);  // it asks for one control at a time
 static_assert(!Optimizer<TrustRegionSearch>);
 static_assert(!BatchOptimizer<ScalarResultOptimizer>);
+// The least-squares search asks for deviations, not qualities: it is not a BatchOptimizer.
+static_assert(!BatchOptimizer<LeastSquaresSearch> && !Optimizer<LeastSquaresSearch>);
+
+// --- SearchedOptimumTwin passes the deviations of the twin it wraps through ----------------------
+static_assert(TwinWithDeviations<SearchedOptimumTwin<KeyPointTwin<ContactNonlinearity>>>);
+static_assert(TwinWithOptimum<SearchedOptimumTwin<RmsQuadraticTwin>> &&
+              !TwinWithDeviations<SearchedOptimumTwin<RmsQuadraticTwin>>);
 
 }  // namespace twincal::static_checks

@@ -67,6 +67,32 @@ static_assert(Twin<ExternalTwin> && !TwinWithOptimum<ExternalTwin>);
 static_assert(TwinWithOptimum<Evaluator<RmsQuadraticTwin>>);
 static_assert(Twin<Evaluator<MinimalTwin>> && !TwinWithOptimum<Evaluator<MinimalTwin>>);
 static_assert(Twin<Evaluator<ExternalTwin, ParallelExecution>>);
+
+// --- TwinWithDeviations ------------------------------------------------------------------------
+struct TwinWithDeviationBatch : MinimalTwin {
+  [[nodiscard]] Index key_point_count() const { return 2; }
+  void deviations_batch(int, const Eigen::Ref<const MatrixX>&, Eigen::Ref<MatrixX>) const {}
+};
+struct TwinWithoutKeyPointCount : MinimalTwin {  // m is needed to size the deviations
+  void deviations_batch(int, const Eigen::Ref<const MatrixX>&, Eigen::Ref<MatrixX>) const {}
+};
+struct TwinWithMutableDeviations : MinimalTwin {  // callable on a const twin, as quality is
+  [[nodiscard]] Index key_point_count() const { return 2; }
+  void deviations_batch(int, const Eigen::Ref<const MatrixX>&, Eigen::Ref<MatrixX>) {}
+};
+struct DeviationsWithoutQuality {  // the deviations come on top of Q, not instead of it
+  using Assembly = int;
+  [[nodiscard]] Index key_point_count() const { return 2; }
+  void deviations_batch(int, const Eigen::Ref<const MatrixX>&, Eigen::Ref<MatrixX>) const {}
+};
+static_assert(TwinWithDeviations<TwinWithDeviationBatch>);
+static_assert(!TwinWithDeviations<MinimalTwin>);
+static_assert(!TwinWithDeviations<TwinWithoutKeyPointCount>);
+static_assert(!TwinWithDeviations<TwinWithMutableDeviations>);
+static_assert(!TwinWithDeviations<DeviationsWithoutQuality>);
+static_assert(TwinWithDeviations<KeyPointTwin<NoNonlinearity>>);
+static_assert(TwinWithDeviations<KeyPointTwin<ContactNonlinearity>>);
+static_assert(!TwinWithDeviations<RmsQuadraticTwin> && !TwinWithDeviations<ExternalTwin>);
 static_assert(Twin<Evaluator<Evaluator<MinimalTwin>>>);
 
 // --- TwinWithKeptAssemblies: value assemblies yes, borrowed ones no, wrappers forward ----------

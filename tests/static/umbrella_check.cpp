@@ -5,6 +5,7 @@
 namespace twincal::static_checks::umbrella {
 
 static_assert(Twin<SheetMetalTwin> && Twin<ContactSheetMetalTwin>);
+static_assert(TwinWithDeviations<SheetMetalTwin> && TwinWithDeviations<ContactSheetMetalTwin>);
 static_assert(Twin<ExternalTwin> && Twin<CalculixTwin>);
 static_assert(SigmaPointScheme<MerweScaledSigmaPoints> && Sampler<Sobol>);
 static_assert(SnapshotController<PaperController<RmsQuadraticTwin, 3>>);

@@ -11,4 +11,10 @@ void AnyTwin::throw_without_scanned_parts() {
                              "a twin that takes scanned parts (the external case) accepts them");
 }
 
+void AnyTwin::throw_without_deviations() {
+  throw InvalidArgumentError("deviations",
+                             "deviations: this twin answers only its quality; rule: only a twin "
+                             "that answers its key points' deviations (TwinWithDeviations) can");
+}
+
 }  // namespace twincal

@@ -27,6 +27,7 @@
 #include "twincal/controllers/exploration_loss.hpp"
 #include "twincal/controllers/individual_optimum.hpp"
 #include "twincal/controllers/individualized_controller.hpp"
+#include "twincal/controllers/least_squares_search.hpp"
 #include "twincal/controllers/log_det_loss.hpp"
 #include "twincal/controllers/lookahead_controller.hpp"
 #include "twincal/controllers/lookahead_options.hpp"
@@ -43,4 +44,5 @@
 #include "twincal/controllers/searched_optimum_twin.hpp"
 #include "twincal/controllers/sensitivity_weights.hpp"
 #include "twincal/controllers/trace_loss.hpp"
+#include "twincal/controllers/trust_region_search.hpp"
 #include "twincal/controllers/weighted_trace_loss.hpp"

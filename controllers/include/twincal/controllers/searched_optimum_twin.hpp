@@ -83,6 +83,14 @@ class SearchedOptimumTwin {
                      Eigen::Ref<VectorX> out) const {
     twin_.quality_batch(assembly, controls, out);
   }
+  /// The wrapped twin's key points, where it has them (TwinWithDeviations).
+  [[nodiscard]] Index key_point_count() const requires TwinWithDeviations<T> {
+    return twin_.key_point_count();
+  }
+  void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const requires TwinWithDeviations<T> {
+    twin_.deviations_batch(assembly, controls, out);
+  }
 
   /// u0(x) as searched.
   /// @throws InvalidArgumentError for an assembly that was not searched.

@@ -2,6 +2,7 @@
 /// @file
 /// The whole core module.
 
+#include "twincal/core/bounded_least_squares.hpp"
 #include "twincal/core/cholesky.hpp"
 #include "twincal/core/cholesky_factor.hpp"
 #include "twincal/core/eigen.hpp"

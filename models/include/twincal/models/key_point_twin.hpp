@@ -130,6 +130,19 @@ class KeyPointTwin : public AnalyticTwinBase {
     return scratch.deviations;
   }
 
+  /// out.col(j) = r(x, controls.col(j)) (TwinWithDeviations); one scratch per batch.
+  /// @throws InvalidArgumentError (unknown assembly), DimensionMismatchError (controls, out).
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const {
+    require_deviations_batch(controls, out, control_dimension(), key_point_count());
+    const Index index = assembly_set().index_of(assembly);
+    Scratch scratch = make_scratch();
+    for (Index j = 0; j < controls.cols(); ++j) {
+      evaluate(assembly, index, controls.col(j), scratch);
+      out.col(j) = scratch.deviations;
+    }
+  }
+
   /// Q(x, u) = RMS of r(x, u).
   [[nodiscard]] double quality(const AssemblyId& assembly,
                                const Eigen::Ref<const VectorX>& control) const {

@@ -53,6 +53,33 @@ concept TwinWithOptimum = Twin<T> && requires(const T& twin, const typename T::A
   { twin.optimal_quality(assembly) } -> std::convertible_to<double>;
 };
 
+/// A twin that also answers what its quality is made of: the deviations r(x, u) of its m key
+/// points, with Q(x, u) = ‖r(x, u)‖ / √m (the RMS deviation, as an FEM variation simulation
+/// computes it). A search of eq. (3) can then treat u0(x) as a least-squares problem in r, whose
+/// Jacobian sees where each contact or active set changes, where Q² alone shows only a kink
+/// (controllers' LeastSquaresSearch).
+///
+/// - `key_point_count()`: m.
+/// - `deviations_batch(x, U, out)`: out.col(j) = r(x, U.col(j)) for the d × k matrix U, into the
+///   m × k matrix `out`.
+template <typename T>
+concept TwinWithDeviations = Twin<T> &&
+    requires(const T& twin, const typename T::Assembly& assembly,
+             const Eigen::Ref<const MatrixX>& controls, Eigen::Ref<MatrixX> out) {
+  { twin.key_point_count() } -> std::convertible_to<Index>;
+  twin.deviations_batch(assembly, controls, out);
+};
+
+/// Checks a deviations batch: `controls` is d × k and `out` is m × k.
+/// @throws DimensionMismatchError naming "controls" or "out".
+inline void require_deviations_batch(const Eigen::Ref<const MatrixX>& controls,
+                                     const Eigen::Ref<const MatrixX>& out, Index dimension,
+                                     Index key_points) {
+  require_dimension("controls", controls.rows(), dimension, "rows");
+  require_dimension("out", out.rows(), key_points, "rows");
+  require_dimension("out", out.cols(), controls.cols(), "columns");
+}
+
 /// Checks a single control for a twin of `dimension` locators.
 /// @throws DimensionMismatchError "control: size is …; rule: must equal d".
 inline void require_control(const Eigen::Ref<const VectorX>& control, Index dimension) {

@@ -128,6 +128,12 @@ class ContactSheetMetalTwin {
   /// y, f, g and the solver's summary at (x, u).
   [[nodiscard]] SheetMetalContactState contact_state(
       const AssemblyId& assembly, const Eigen::Ref<const VectorX>& control) const;
+  /// m, the key points (TwinWithDeviations).
+  [[nodiscard]] Index key_point_count() const noexcept { return linear_.key_point_count(); }
+  /// out.col(j) = y(x, controls.col(j)) with contact (m × k; TwinWithDeviations): Q = ‖y‖ / √m.
+  /// One scratch per batch. @throws as quality_batch, and DimensionMismatchError for out.
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const;
   /// y(x, u) with contact (m, mm).
   [[nodiscard]] VectorX key_deviation(const AssemblyId& assembly,
                                       const Eigen::Ref<const VectorX>& control) const;

@@ -4,7 +4,6 @@
 /// (linear and with contact), their plates, meshes, joining process, parts and solvers.
 
 #include "twincal/sheet_metal/acm_plate_element.hpp"
-#include "twincal/sheet_metal/bounded_least_squares.hpp"
 #include "twincal/sheet_metal/constrained_solver.hpp"
 #include "twincal/sheet_metal/contact_pairs.hpp"
 #include "twincal/sheet_metal/contact_sheet_metal_twin.hpp"

@@ -108,6 +108,13 @@ class SheetMetalTwin {
   /// remove.
   [[nodiscard]] double achievable_gain() const;
 
+  /// m, the key points (TwinWithDeviations).
+  [[nodiscard]] Index key_point_count() const noexcept { return influence_.rows(); }
+  /// out.col(j) = y(x, controls.col(j)) (m × k; TwinWithDeviations): Q = ‖y‖ / √m.
+  /// @throws InvalidArgumentError for an unknown assembly, DimensionMismatchError for controls or
+  ///         out of the wrong shape.
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const;
   /// y(x, u) = y0(x) + B u, the key-point deviations (m, mm).
   [[nodiscard]] VectorX key_deviation(const AssemblyId& assembly,
                                       const Eigen::Ref<const VectorX>& control) const;

@@ -58,6 +58,16 @@ class AnyTwin {
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
     return model_->optimal_quality(assembly);
   }
+  /// m, the key points of a twin that answers its deviations (TwinWithDeviations); 0 for one
+  /// that answers only Q.
+  [[nodiscard]] Index key_point_count() const { return model_->key_point_count(); }
+  /// out.col(j) = r(x, controls.col(j)), m × k.
+  /// @throws InvalidArgumentError (field "deviations") for a twin that answers only Q; the
+  ///         twin's errors.
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const {
+    model_->deviations_batch(assembly, controls, out);
+  }
   /// Registers the assembly of scanned `parts` with a twin that takes them (T::add_scanned,
   /// e.g. ExternalCaseTwin; with `known`, its optimum as found before) and returns its id; not
   /// for use concurrent with other calls.
@@ -85,6 +95,9 @@ class AnyTwin {
                                          const Eigen::Ref<const VectorX>&) const = 0;
     virtual void quality_batch(const AssemblyId&, const Eigen::Ref<const MatrixX>&,
                                Eigen::Ref<VectorX>) const = 0;
+    [[nodiscard]] virtual Index key_point_count() const = 0;
+    virtual void deviations_batch(const AssemblyId&, const Eigen::Ref<const MatrixX>&,
+                                  Eigen::Ref<MatrixX>) const = 0;
     [[nodiscard]] virtual VectorX optimum(const AssemblyId&) const = 0;
     [[nodiscard]] virtual double optimal_quality(const AssemblyId&) const = 0;
     virtual AssemblyId add_scanned(const nlohmann::json& parts,
@@ -108,6 +121,21 @@ class AnyTwin {
                        Eigen::Ref<VectorX> out) const override {
       twin.quality_batch(assembly, controls, out);
     }
+    [[nodiscard]] Index key_point_count() const override {
+      if constexpr (TwinWithDeviations<T>) {
+        return twin.key_point_count();
+      } else {
+        return 0;
+      }
+    }
+    void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                          Eigen::Ref<MatrixX> out) const override {
+      if constexpr (TwinWithDeviations<T>) {
+        twin.deviations_batch(assembly, controls, out);
+      } else {
+        throw_without_deviations();
+      }
+    }
     [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const override {
       return twin.optimum(assembly);
     }
@@ -128,6 +156,7 @@ class AnyTwin {
   };
 
   [[noreturn]] static void throw_without_scanned_parts();
+  [[noreturn]] static void throw_without_deviations();
 
   std::shared_ptr<Concept> model_;
   std::vector<AssemblyId> assemblies_;

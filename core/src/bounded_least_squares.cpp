@@ -1,4 +1,4 @@
-#include "twincal/sheet_metal/bounded_least_squares.hpp"
+#include "twincal/core/bounded_least_squares.hpp"
 
 #include <vector>
 
