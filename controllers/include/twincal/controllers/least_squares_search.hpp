@@ -26,7 +26,8 @@
 ///
 /// Evaluations: 1 per start, d per Jacobian, 1 per trial step. Non-finite deviations mark a
 /// control the twin could not evaluate: a trial step there is rejected, a Jacobian with one ends
-/// that local search. Allocates its workspace once per call to minimize.
+/// that local search. Its workspace is allocated once per call to minimize; each step's
+/// bounded_least_squares allocates its own (one step per request to the twin).
 
 #include <algorithm>
 #include <cmath>
