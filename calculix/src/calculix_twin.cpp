@@ -114,6 +114,16 @@ void CalculixTwin::quality_batch(const AssemblyId& assembly,
   evaluate(assembly_parts, controls, out, fmt::format("assembly {}", assembly));
 }
 
+Index CalculixTwin::key_point_count() const noexcept { return model_->key_point_count(); }
+
+void CalculixTwin::deviations_batch(const AssemblyId& assembly,
+                                    const Eigen::Ref<const MatrixX>& controls,
+                                    Eigen::Ref<MatrixX> out) const {
+  require_deviations_batch(controls, out, control_dimension(), key_point_count());
+  const CalculixParts assembly_parts = parts(assembly);
+  key_deviations(assembly_parts, controls, out, fmt::format("assembly {}", assembly));
+}
+
 CalculixBatchSummary CalculixTwin::evaluate(const CalculixParts& parts,
                                             const Eigen::Ref<const MatrixX>& controls,
                                             Eigen::Ref<VectorX> out, std::string_view label) const {

@@ -85,6 +85,18 @@ void InfluenceCoefficientTwin::quality_batch(const AssemblyId& assembly,
   qualities_from(unadjusted_deviations(assembly), controls, out);
 }
 
+void InfluenceCoefficientTwin::deviations_batch(const AssemblyId& assembly,
+                                                const Eigen::Ref<const MatrixX>& controls,
+                                                Eigen::Ref<MatrixX> out) const {
+  require_deviations_batch(controls, out, control_dimension(), key_point_count());
+  const VectorX y0 = unadjusted_deviations(assembly);
+  // Column by column, as quality: a batch gives each control's deviations to the bit.
+  for (Index k = 0; k < controls.cols(); ++k) {
+    out.col(k) = y0;
+    out.col(k).noalias() += influence_ * controls.col(k);
+  }
+}
+
 void InfluenceCoefficientTwin::quality_batch(const CalculixParts& parts,
                                              const Eigen::Ref<const MatrixX>& controls,
                                              Eigen::Ref<VectorX> out) const {

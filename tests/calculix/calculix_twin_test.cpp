@@ -101,6 +101,24 @@ TEST(CalculixTwin, BatchEqualsSingleSolves) {
   }
 }
 
+// The deviations of one deck are those Q is the RMS of (TwinWithDeviations).
+TEST(CalculixTwin, AnswersTheDeviationsItsQualityIsTheRmsOf) {
+  const CalculixTwin twin =
+      CalculixTwin::generate(SheetMetalLayout::lap_joint(), linear_options(), 2023, 1, 1);
+  const Index m = twin.key_point_count();
+  const MatrixX controls = box_controls(2, 8);
+  MatrixX deviations(m, 2);
+  twin.deviations_batch({0, 0}, controls, deviations);
+  VectorX q(2);
+  twin.quality_batch({0, 0}, controls, q);
+  for (Index k = 0; k < 2; ++k) {
+    EXPECT_NEAR(deviations.col(k).norm() / std::sqrt(static_cast<double>(m)), q(k), 1e-9 * q(k))
+        << k;
+  }
+  MatrixX short_rows(m - 1, 2);
+  EXPECT_THROW(twin.deviations_batch({0, 0}, controls, short_rows), DimensionMismatchError);
+}
+
 // Contact changes Q where the sheets press into each other; with a clearance no control can
 // close, it is the contact-free solve.
 TEST(CalculixTwin, ContactActsOnlyWhereGapsClose) {

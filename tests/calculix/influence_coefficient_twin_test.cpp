@@ -1,5 +1,7 @@
 #include "twincal/calculix/influence_coefficient_twin.hpp"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "calculix_test_controls.hpp"
@@ -92,6 +94,28 @@ TEST(InfluenceCoefficientTwin, OptimumIsTheBoxMinimum) {
   }
   EXPECT_THROW((void)influence.quality({2, 0}, VectorX::Zero(6)), InvalidArgumentError);
   EXPECT_THROW((void)influence.quality({0, 0}, VectorX::Zero(4)), DimensionMismatchError);
+}
+
+// The map's deviations are what its Q is the RMS of, a batch gives each control's to the bit, and
+// a wrong shape is refused (models' DeviationsConformance, which needs no solver, says the same
+// of the FEM twins).
+TEST(InfluenceCoefficientTwin, AnswersTheDeviationsItsQualityIsTheRmsOf) {
+  const InfluenceCoefficientTwin influence(lap_joint(true));
+  const Index m = influence.key_point_count();
+  const MatrixX controls = random_controls(5, 6);
+  MatrixX deviations(m, 5);
+  influence.deviations_batch({1, 2}, controls, deviations);
+  VectorX q(5);
+  influence.quality_batch({1, 2}, controls, q);
+  for (Index k = 0; k < 5; ++k) {
+    EXPECT_NEAR(deviations.col(k).norm() / std::sqrt(static_cast<double>(m)), q(k), 1e-12 * q(k));
+    MatrixX alone(m, 1);
+    influence.deviations_batch({1, 2}, controls.col(k), alone);
+    EXPECT_EQ(alone.col(0), deviations.col(k)) << k;
+  }
+  MatrixX short_rows(m - 1, 5);
+  EXPECT_THROW(influence.deviations_batch({1, 2}, controls, short_rows), DimensionMismatchError);
+  EXPECT_THROW(influence.deviations_batch({2, 0}, controls, deviations), InvalidArgumentError);
 }
 
 }  // namespace

@@ -70,6 +70,14 @@ class CalculixTwin {
   void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const;
 
+  /// m, the key points (TwinWithDeviations).
+  [[nodiscard]] Index key_point_count() const noexcept;
+  /// out.col(k) = the key-point deviations y(x, controls.col(k)) (m × k, mm), in one deck as
+  /// `key_deviations`; a column whose solve fails is NaN throughout (TwinWithDeviations).
+  /// @throws as quality_batch, and DimensionMismatchError for out.
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const;
+
   /// Q for every column of `controls` on any parts, in one deck where the solves converge: a
   /// column whose solve fails is solved again alone from the undeformed state, and is NaN (and
   /// listed in the summary) when that fails too; the columns after it go on in a new deck.
@@ -95,6 +103,6 @@ class CalculixTwin {
   std::shared_ptr<std::atomic<std::uint64_t>> jobs_;
 };
 
-static_assert(Twin<CalculixTwin>);
+static_assert(TwinWithDeviations<CalculixTwin>);
 
 }  // namespace twincal

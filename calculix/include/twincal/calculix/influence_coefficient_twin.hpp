@@ -50,6 +50,13 @@ class InfluenceCoefficientTwin {
   /// @throws CalculixError when that solve fails.
   void quality_batch(const CalculixParts& parts, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const;
+  /// m, the key points (TwinWithDeviations).
+  [[nodiscard]] Index key_point_count() const noexcept { return influence_.rows(); }
+  /// out.col(k) = y0 + B controls.col(k) (m × k; TwinWithDeviations).
+  /// @throws InvalidArgumentError for an assembly outside the parts, DimensionMismatchError for
+  ///         controls or out of the wrong shape.
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const;
   /// u0(x) = argmin over the box of ‖y0 + B u‖ (bounded least squares, exact), eq. (3).
   [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const;
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const;
@@ -69,6 +76,7 @@ class InfluenceCoefficientTwin {
   Index solver_runs_ = 0;
 };
 
-static_assert(TwinWithOptimum<InfluenceCoefficientTwin>);
+static_assert(TwinWithOptimum<InfluenceCoefficientTwin> &&
+              TwinWithDeviations<InfluenceCoefficientTwin>);
 
 }  // namespace twincal
