@@ -10,7 +10,8 @@
 // METHOD: bobyqa (NLopt's BOBYQA alone, one evaluation per request; the default), trust_region
 // (controllers' TrustRegionSearch on Q², a batch per request) or least_squares (controllers'
 // LeastSquaresSearch on the key points' deviations, for the cases whose twin answers them: all
-// but the external one; its restarts draw from RandomStream(SEED).substream("least_squares")).
+// but the RMS-quadratic analytic and the external one; its restarts draw from
+// RandomStream(SEED).substream("least_squares")).
 // Prints the mean evaluations and requests (rounds of the twin's latency) per assembly, and for
 // trust_region and least_squares how the assemblies beyond 1 % ended (converged or out of
 // budget).
@@ -54,6 +55,11 @@ int main(int argc, char** argv) {
                                                "least_squares");
     }
     const AnyTwin twin = make_twin(config);
+    if (method == "least_squares" && twin.key_point_count() == 0) {
+      throw InvalidArgumentError("CASE", "CASE: value is '" + which +
+                                             "'; rule: least_squares needs a twin that answers "
+                                             "its key points' deviations");
+    }
     const Index d = twin.control_dimension();
     const auto budget = static_cast<std::uint64_t>(factor * static_cast<double>((d + 1) * (d + 1)));
     std::vector<AssemblyId> order = twin.assemblies();

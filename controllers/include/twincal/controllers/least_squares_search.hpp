@@ -144,9 +144,7 @@ class LeastSquaresSearch {
                                                   Index key_points, const VectorX& start,
                                                   const VectorX& lower, const VectorX& upper,
                                                   RandomStream restarts) const {
-    if (start.size() == 0)
-      throw InvalidArgumentError("start", "start: value is empty; rule: d >= 1");
-    require_search_box(start, lower, upper, /*strict=*/true);
+    require_scaled_search_box(start, lower, upper);
     if (key_points < 1) {
       throw InvalidArgumentError(
           "key_points", fmt::format("key_points: value is {}; rule: must be >= 1", key_points));

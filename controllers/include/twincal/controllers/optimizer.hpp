@@ -52,6 +52,15 @@ inline void require_search_box(const VectorX& start, const VectorX& lower, const
   }
 }
 
+/// require_search_box with lower < upper for a search whose steps scale with the box's width
+/// (TrustRegionSearch, LeastSquaresSearch), and d >= 1.
+/// @throws InvalidArgumentError for an empty start; what require_search_box throws.
+inline void require_scaled_search_box(const VectorX& start, const VectorX& lower,
+                                      const VectorX& upper) {
+  if (start.size() == 0) throw InvalidArgumentError("start", "start: value is empty; rule: d >= 1");
+  require_search_box(start, lower, upper, /*strict=*/true);
+}
+
 /// `minimize(f, start, lower, upper)` returns the best point of f in [lower, upper] it finds
 /// within its budget, starting its search from `start`.
 template <typename O>

@@ -133,7 +133,7 @@ class TrustRegionSearch {
                                                  const VectorX& upper,
                                                  const MatrixX& curvature) const {
     const Index d = start.size();
-    require_box(start, lower, upper);
+    require_scaled_search_box(start, lower, upper);
     if (curvature.size() != 0) {
       require_shape("curvature", curvature, d, d);
       require_finite("curvature", curvature);
@@ -436,12 +436,6 @@ class TrustRegionSearch {
       return model.change(Eigen::Map<const VectorX>(x, static_cast<Index>(n)), gradient);
     }
   };
-
-  static void require_box(const VectorX& start, const VectorX& lower, const VectorX& upper) {
-    if (start.size() == 0)
-      throw InvalidArgumentError("start", "start: value is empty; rule: d >= 1");
-    require_search_box(start, lower, upper, /*strict=*/true);
-  }
 
   TrustRegionSearchOptions options_;
 };
