@@ -89,18 +89,17 @@ void InfluenceCoefficientTwin::deviations_batch(const AssemblyId& assembly,
                                                 const Eigen::Ref<const MatrixX>& controls,
                                                 Eigen::Ref<MatrixX> out) const {
   require_deviations_batch(controls, out, control_dimension(), key_point_count());
-  const VectorX y0 = unadjusted_deviations(assembly);
-  // Column by column, as quality: a batch gives each control's deviations to the bit.
-  for (Index k = 0; k < controls.cols(); ++k) {
-    out.col(k) = y0;
-    out.col(k).noalias() += influence_ * controls.col(k);
-  }
+  deviations_from(unadjusted_deviations(assembly), controls, out);
 }
 
-void InfluenceCoefficientTwin::quality_batch(const CalculixParts& parts,
-                                             const Eigen::Ref<const MatrixX>& controls,
-                                             Eigen::Ref<VectorX> out) const {
-  require_dimension("controls (rows)", controls.rows(), control_dimension());
+void InfluenceCoefficientTwin::deviations_batch(const CalculixParts& parts,
+                                                const Eigen::Ref<const MatrixX>& controls,
+                                                Eigen::Ref<MatrixX> out) const {
+  require_deviations_batch(controls, out, control_dimension(), key_point_count());
+  deviations_from(unadjusted_deviations(parts), controls, out);
+}
+
+VectorX InfluenceCoefficientTwin::unadjusted_deviations(const CalculixParts& parts) const {
   VectorX y0(influence_.rows());
   const CalculixBatchSummary summary =
       linear_->key_deviations(parts, VectorX::Zero(control_dimension()), y0, "scanned parts");
@@ -110,7 +109,23 @@ void InfluenceCoefficientTwin::quality_batch(const CalculixParts& parts,
         "influence coefficients: the linear solve of scanned parts failed: " + summary.last_failure,
         "");
   }
-  qualities_from(y0, controls, out);
+  return y0;
+}
+
+void InfluenceCoefficientTwin::quality_batch(const CalculixParts& parts,
+                                             const Eigen::Ref<const MatrixX>& controls,
+                                             Eigen::Ref<VectorX> out) const {
+  require_dimension("controls (rows)", controls.rows(), control_dimension());
+  qualities_from(unadjusted_deviations(parts), controls, out);
+}
+
+void InfluenceCoefficientTwin::deviations_from(const VectorX& y0,
+                                               const Eigen::Ref<const MatrixX>& controls,
+                                               Eigen::Ref<MatrixX> out) const {
+  for (Index k = 0; k < controls.cols(); ++k) {
+    out.col(k) = y0;
+    out.col(k).noalias() += influence_ * controls.col(k);
+  }
 }
 
 void InfluenceCoefficientTwin::qualities_from(const VectorX& y0,

@@ -3,6 +3,8 @@
 //   → {"id": n, "assembly": {"upper": i, "lower": j}, "controls": [[u_1, …, u_d], …]}
 //   → {"id": n, "assembly": {"parts": {"upper": [w…], "lower": [w…]}}, "controls": …}
 //   ← {"id": n, "qualities": [q…]}   (null where CalculiX did not converge)
+//   → … "deviations": true}          (the key points' deviations instead, `--describe`'s
+//   ← {"id": n, "deviations": [[y_1, …, y_m] or null, …]}                    key_points = m)
 //   ← {"id": n, "error": "…"}        (a request it refuses, a solver that cannot run)
 // Diagnostics go to stderr. `--describe` prints the twin's locators, bounds and mesh and exits.
 
@@ -190,6 +192,29 @@ nlohmann::json answer(const twincal::CalculixTwin& twin,
   } else {
     id = twincal::AssemblyId{assembly.at("upper").get<Index>(), assembly.at("lower").get<Index>()};
   }
+  const std::string label = id ? fmt::format("assembly {}", *id) : "a scanned assembly";
+  // The nonlinear solve needs the listed assembly's parts; the influence model looks them up.
+  if (id && influence == nullptr) parts = twin.parts(*id);
+  if (request.value("deviations", false)) {
+    twincal::MatrixX y(twin.key_point_count(), u.cols());
+    if (influence != nullptr) {
+      if (id) {
+        influence->deviations_batch(*id, u, y);
+      } else {
+        influence->deviations_batch(parts, u, y);
+      }
+    } else {
+      const twincal::CalculixBatchSummary summary = twin.key_deviations(parts, u, y, label);
+      if (!summary.failed.empty()) std::cerr << summary.last_failure << "\n";
+    }
+    nlohmann::json deviations = nlohmann::json::array();
+    for (Index c = 0; c < y.cols(); ++c) {
+      deviations.push_back(y.col(c).allFinite() ? nlohmann::json(std::vector<double>(
+                                                      y.col(c).begin(), y.col(c).end()))
+                                                : nlohmann::json(nullptr));
+    }
+    return {{"id", request.at("id")}, {"deviations", std::move(deviations)}};
+  }
   twincal::VectorX q(u.cols());
   if (influence != nullptr) {
     if (id) {
@@ -198,8 +223,6 @@ nlohmann::json answer(const twincal::CalculixTwin& twin,
       influence->quality_batch(parts, u, q);
     }
   } else {
-    if (id) parts = twin.parts(*id);
-    const std::string label = id ? fmt::format("assembly {}", *id) : "a scanned assembly";
     const twincal::CalculixBatchSummary summary = twin.evaluate(parts, u, q, label);
     if (!summary.failed.empty()) std::cerr << summary.last_failure << "\n";
   }

@@ -57,7 +57,24 @@ void ExternalTwinPool::quality_batch(const Assembly& assembly,
                                      Eigen::Ref<VectorX> out) const {
   require_control_batch(controls, out, control_dimension());
   require_finite("controls", controls);
-  const Index k = controls.cols();
+  spread(controls.cols(), [&](const ExternalTwin& worker, Index begin, Index count) {
+    worker.quality_batch(assembly, controls.middleCols(begin, count), out.segment(begin, count));
+  });
+}
+
+void ExternalTwinPool::deviations_batch(const Assembly& assembly,
+                                        const Eigen::Ref<const MatrixX>& controls,
+                                        Eigen::Ref<MatrixX> out) const {
+  ExternalTwin::require_deviations(key_point_count());
+  require_deviations_batch(controls, out, control_dimension(), key_point_count());
+  require_finite("controls", controls);
+  spread(controls.cols(), [&](const ExternalTwin& worker, Index begin, Index count) {
+    worker.deviations_batch(assembly, controls.middleCols(begin, count),
+                            out.middleCols(begin, count));
+  });
+}
+
+void ExternalTwinPool::spread(Index k, const ChunkRequest& request) const {
   const Index chunks = std::min(k, workers());
   if (chunks == 0) return;
   // Chunk c covers [c·k/chunks, (c+1)·k/chunks): sizes differ by at most one.
@@ -65,7 +82,7 @@ void ExternalTwinPool::quality_batch(const Assembly& assembly,
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(chunks));
   const auto run = [&](Index c) {
     try {
-      evaluate_chunk(c, assembly, controls, begin_of(c), begin_of(c + 1) - begin_of(c), out);
+      evaluate_chunk(c, begin_of(c), begin_of(c + 1) - begin_of(c), request);
     } catch (...) {
       failures[static_cast<std::size_t>(c)] = std::current_exception();
     }
@@ -81,16 +98,13 @@ void ExternalTwinPool::quality_batch(const Assembly& assembly,
   }
 }
 
-void ExternalTwinPool::evaluate_chunk(Index w, const Assembly& assembly,
-                                      const Eigen::Ref<const MatrixX>& controls, Index begin,
-                                      Index count, Eigen::Ref<VectorX> out) const {
+void ExternalTwinPool::evaluate_chunk(Index w, Index begin, Index count,
+                                      const ChunkRequest& request) const {
   const ExternalTwin& worker = *workers_[static_cast<std::size_t>(w)];
-  const Eigen::Ref<const MatrixX> chunk = controls.middleCols(begin, count);
-  Eigen::Ref<VectorX> answers = out.segment(begin, count);
   std::string first;
   for (int attempt = 0;; ++attempt) {
     try {
-      worker.quality_batch(assembly, chunk, answers);
+      request(worker, begin, count);
       return;
     } catch (const ExternalTwinError& error) {
       const std::string where =

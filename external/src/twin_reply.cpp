@@ -1,7 +1,10 @@
 #include "twincal/external/twin_reply.hpp"
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
+#include <utility>
+#include <variant>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -24,21 +27,25 @@ std::string quoted_output(std::string_view text) {
   return quoted(nlohmann::json(std::string(text.substr(0, 200))));
 }
 
-std::optional<TwinReplyFault> read_twin_reply(std::string_view line, std::uint64_t id,
-                                              double max_quality, Eigen::Ref<VectorX> qualities) {
-  const auto malformed = [&](std::string_view why) {
-    return TwinReplyFault{ExternalTwinFailure::malformed_reply,
-                          fmt::format("{}: {}", why, quoted_output(line))};
-  };
+namespace {
+
+TwinReplyFault malformed(std::string_view why, std::string_view line) {
+  return TwinReplyFault{ExternalTwinFailure::malformed_reply,
+                        fmt::format("{}: {}", why, quoted_output(line))};
+}
+
+// The reply's JSON object, once its nesting, syntax, id and the absence of an {"error": …} are
+// checked: what every reply shares.
+std::variant<nlohmann::json, TwinReplyFault> open_reply(std::string_view line, std::uint64_t id) {
   if (json_nesting_depth(line) > max_json_nesting) {
-    return malformed("the reply nests deeper than 64 arrays and objects");
+    return malformed("the reply nests deeper than 64 arrays and objects", line);
   }
   // Without exceptions: invalid UTF-8 and numbers beyond double's range (1e309) are discarded.
-  const nlohmann::json reply = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-  if (reply.is_discarded()) return malformed("the reply is not JSON");
-  if (!reply.is_object()) return malformed("the reply is not a JSON object");
+  nlohmann::json reply = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+  if (reply.is_discarded()) return malformed("the reply is not JSON", line);
+  if (!reply.is_object()) return malformed("the reply is not a JSON object", line);
   if (const auto echoed = reply.find("id"); echoed != reply.end() && *echoed != id) {
-    return malformed(fmt::format("the reply is for request {}, not {}", quoted(*echoed), id));
+    return malformed(fmt::format("the reply is for request {}, not {}", quoted(*echoed), id), line);
   }
   if (const auto error = reply.find("error"); error != reply.end()) {
     // The twin's own words (valid UTF-8: the parser refuses anything else); any other value,
@@ -47,23 +54,26 @@ std::optional<TwinReplyFault> read_twin_reply(std::string_view line, std::uint64
     return TwinReplyFault{ExternalTwinFailure::twin_error,
                           words ? error->get<std::string>() : quoted(*error)};
   }
-  const auto found = reply.find("qualities");
-  if (found == reply.end() || !found->is_array()) {
-    return malformed("the reply has no \"qualities\" array");
-  }
-  if (static_cast<Index>(found->size()) != qualities.size()) {
+  return reply;
+}
+
+// The reply's "qualities" array (found: it is one) into `qualities`.
+std::optional<TwinReplyFault> read_qualities(const nlohmann::json& found, std::string_view line,
+                                             double max_quality, Eigen::Ref<VectorX> qualities) {
+  if (static_cast<Index>(found.size()) != qualities.size()) {
     return TwinReplyFault{ExternalTwinFailure::wrong_count,
                           fmt::format("the reply has {} qualities; rule: must have {}, one per "
                                       "control",
-                                      found->size(), qualities.size())};
+                                      found.size(), qualities.size())};
   }
   for (Index j = 0; j < qualities.size(); ++j) {
-    const nlohmann::json& q = (*found)[static_cast<std::size_t>(j)];
+    const nlohmann::json& q = found[static_cast<std::size_t>(j)];
     if (q.is_null()) {
       qualities(j) = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
-    if (!q.is_number()) return malformed(fmt::format("quality {} is not a number or null", j));
+    if (!q.is_number())
+      return malformed(fmt::format("quality {} is not a number or null", j), line);
     qualities(j) = q.get<double>();
     if (!(qualities(j) >= 0.0 && qualities(j) <= max_quality)) {
       return TwinReplyFault{
@@ -71,6 +81,91 @@ std::optional<TwinReplyFault> read_twin_reply(std::string_view line, std::uint64
           fmt::format("quality {} is {}; rule: a quality is an RMS deviation in [0, max_quality = "
                       "{}] mm, or null for a control the twin could not evaluate",
                       j, quoted(q), max_quality)};
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<TwinReplyFault> read_twin_reply(std::string_view line, std::uint64_t id,
+                                              double max_quality, Eigen::Ref<VectorX> qualities) {
+  std::variant<nlohmann::json, TwinReplyFault> opened = open_reply(line, id);
+  if (auto* fault = std::get_if<TwinReplyFault>(&opened)) return std::move(*fault);
+  const nlohmann::json& reply = std::get<nlohmann::json>(opened);
+  const auto found = reply.find("qualities");
+  if (found == reply.end() || !found->is_array()) {
+    return malformed("the reply has no \"qualities\" array", line);
+  }
+  return read_qualities(*found, line, max_quality, qualities);
+}
+
+std::optional<TwinReplyFault> read_twin_deviations_reply(std::string_view line, std::uint64_t id,
+                                                         double max_quality,
+                                                         Eigen::Ref<MatrixX> deviations) {
+  std::variant<nlohmann::json, TwinReplyFault> opened = open_reply(line, id);
+  if (auto* fault = std::get_if<TwinReplyFault>(&opened)) return std::move(*fault);
+  const nlohmann::json& reply = std::get<nlohmann::json>(opened);
+  const auto found = reply.find("deviations");
+  if (found == reply.end() || !found->is_array()) {
+    return malformed("the reply has no \"deviations\" array (the request asked for them)", line);
+  }
+  const Index m = deviations.rows();
+  const Index k = deviations.cols();
+  if (static_cast<Index>(found->size()) != k) {
+    return TwinReplyFault{ExternalTwinFailure::wrong_count,
+                          fmt::format("the reply has {} arrays of deviations; rule: must have {}, "
+                                      "one per control",
+                                      found->size(), k)};
+  }
+  for (Index j = 0; j < k; ++j) {
+    const nlohmann::json& column = (*found)[static_cast<std::size_t>(j)];
+    if (column.is_null()) {
+      deviations.col(j).setConstant(std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
+    if (!column.is_array()) {
+      return malformed(fmt::format("the deviations of control {} are not an array or null", j),
+                       line);
+    }
+    if (static_cast<Index>(column.size()) != m) {
+      return TwinReplyFault{ExternalTwinFailure::wrong_count,
+                            fmt::format("control {} has {} deviations; rule: must have {}, one "
+                                        "per key point (key_points)",
+                                        j, column.size(), m)};
+    }
+    for (Index i = 0; i < m; ++i) {
+      const nlohmann::json& r = column[static_cast<std::size_t>(i)];
+      if (!r.is_number()) {
+        return malformed(fmt::format("deviation {} of control {} is not a number", i, j), line);
+      }
+      deviations(i, j) = r.get<double>();
+      if (!(std::abs(deviations(i, j)) <= max_quality)) {
+        return TwinReplyFault{
+            ExternalTwinFailure::implausible_quality,
+            fmt::format("deviation {} of control {} is {}; rule: a deviation lies in "
+                        "[-max_quality, max_quality] = ±{} mm",
+                        i, j, quoted(r), max_quality)};
+      }
+    }
+  }
+  const auto stated = reply.find("qualities");
+  if (stated == reply.end()) return std::nullopt;
+  if (!stated->is_array()) return malformed("the reply's \"qualities\" is not an array", line);
+  VectorX qualities(k);
+  if (auto fault = read_qualities(*stated, line, max_quality, qualities)) return fault;
+  for (Index j = 0; j < k; ++j) {
+    const double rms = deviations.col(j).norm() / std::sqrt(static_cast<double>(m));
+    const bool agree = std::isnan(rms) ? std::isnan(qualities(j))
+                                       : std::abs(qualities(j) - rms) <= 1e-6 * rms + 1e-12;
+    if (!agree) {
+      return TwinReplyFault{
+          ExternalTwinFailure::implausible_quality,
+          fmt::format("quality {} is {} but {}; rule: a quality sent with deviations is their RMS "
+                      "to a relative 1e-6, null for null deviations",
+                      j, std::isnan(qualities(j)) ? "null" : fmt::format("{}", qualities(j)),
+                      std::isnan(rms) ? "its deviations are null"
+                                      : fmt::format("its deviations' RMS is {}", rms))};
     }
   }
   return std::nullopt;

@@ -215,9 +215,10 @@ TEST(CalculixTwinProgram, ServesTheTwinThroughThePool) {
   options.twin.upper_bounds = VectorX::Constant(6, 1.0);
   options.twin.timeout = std::chrono::milliseconds(60000);
   options.workers = 2;
-  const ExternalTwinPool pool(options);
   const CalculixTwin twin =
       CalculixTwin::generate(SheetMetalLayout::lap_joint(), linear_options(), 2023, 2, 2);
+  options.twin.key_points = twin.key_point_count();
+  const ExternalTwinPool pool(options);
   const MatrixX controls = box_controls(3, 9);
   VectorX served(3);
   VectorX here(3);
@@ -233,6 +234,14 @@ TEST(CalculixTwinProgram, ServesTheTwinThroughThePool) {
   VectorX from_scan(3);
   pool.quality_batch(scanned, controls, from_scan);
   EXPECT_EQ(from_scan, here);
+  // The key points' deviations ("deviations": true), of a listed and of a scanned assembly.
+  MatrixX deviations_served(twin.key_point_count(), 3);
+  MatrixX deviations_here(twin.key_point_count(), 3);
+  pool.deviations_batch(nlohmann::json{{"upper", 1}, {"lower", 0}}, controls, deviations_served);
+  twin.deviations_batch({1, 0}, controls, deviations_here);
+  EXPECT_EQ(deviations_served, deviations_here);
+  pool.deviations_batch(scanned, controls, deviations_served);
+  EXPECT_EQ(deviations_served, deviations_here);
   // A request it refuses names the rule.
   scanned["parts"]["upper"] = std::vector<double>(3, 0.0);
   try {

@@ -113,6 +113,15 @@ TEST(InfluenceCoefficientTwin, AnswersTheDeviationsItsQualityIsTheRmsOf) {
   MatrixX short_rows(m - 1, 5);
   EXPECT_THROW(influence.deviations_batch({1, 2}, controls, short_rows), DimensionMismatchError);
   EXPECT_THROW(influence.deviations_batch({2, 0}, controls, deviations), InvalidArgumentError);
+  // Scanned parts: one solve for their y0, then the same B; Q is their RMS too.
+  const CalculixParts parts = lap_joint(true).parts({1, 2});
+  MatrixX scanned(m, 5);
+  influence.deviations_batch(parts, controls, scanned);
+  VectorX scanned_quality(5);
+  influence.quality_batch(parts, controls, scanned_quality);
+  EXPECT_TRUE((scanned.colwise().norm().transpose() / std::sqrt(static_cast<double>(m)))
+                  .isApprox(scanned_quality, 1e-12));
+  EXPECT_THROW(influence.deviations_batch(parts, controls, short_rows), DimensionMismatchError);
 }
 
 }  // namespace

@@ -17,7 +17,8 @@ mpi-kill: a job of 3 ranks killed after a seeded number of stored episodes (mpie
           was missing.
 mpi-twin-pool:
           a study on an external twin (examples/external_twin/minimal_twin.py) with
-          `--mpi-twin-pool` over 2 and 3 ranks equals the single-process run; a twin whose
+          `--mpi-twin-pool` over 2 and 3 ranks equals the single-process run, also with u0
+          searched on the key points' deviations (least_squares); a twin whose
           batches crash (tests/data/batch_crashing_twin.py) ends the study with the twin-failure
           error, naming the rank.
 """
@@ -47,11 +48,12 @@ SLOW_EPISODES = 16
 ROOT = HERE.parents[1]
 
 
-def external_config(work, program, name):
-    """A small study on the external twin `program` (a Python script), written to work/name."""
+def external_config(work, program, name, **settings):
+    """A small study on the external twin `program` (a Python script), written to work/name;
+    `settings` go into its external_twin."""
     config = {
         "case": "external",
-        "external_twin": external_twin([sys.executable, str(program)], 3, 3),
+        "external_twin": {**external_twin([sys.executable, str(program)], 3, 3), **settings},
         "locators": "all",
         "controllers": ["baseline", "default", "w=1", "active"],
         "runs": 2,
@@ -179,6 +181,14 @@ def mpi_twin_pool(twincal, work, mpiexec):
                   ["--out", work / f"pool{ranks}", "--mpi-twin-pool"], env=env)
         assert f"its twins' workers on {ranks - 1} other rank(s)" in out, out
         compare(work / "single", work / f"pool{ranks}")
+    # u0 searched on the key points' deviations, which the ranks relay too.
+    deviations = external_config(work, ROOT / "examples" / "external_twin" / "minimal_twin.py",
+                                 "deviations.json", key_points=4, optimum_method="least_squares")
+    study = [twincal, "run", "--config", deviations, "--controllers", "baseline,w=1", "--quiet"]
+    run(study + ["--out", work / "deviations-single"])
+    run(launcher(mpiexec, 3) + study + ["--out", work / "deviations-pool3", "--mpi-twin-pool"],
+        env=env)
+    compare(work / "deviations-single", work / "deviations-pool3")
     crashing = external_config(work, ROOT / "tests" / "data" / "batch_crashing_twin.py",
                                "crashing.json")
     result = subprocess.run(launcher(mpiexec, 3) + [twincal, "run", "--config", crashing,

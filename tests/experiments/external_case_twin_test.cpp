@@ -154,6 +154,16 @@ TEST(ExternalTwinSettings, GoWithTheExternalCaseAndOnlyWithIt) {
   EXPECT_EQ(episode_defining_json(config), episode_defining_json(more_workers));
   more_workers.external_twin->command.back() = "other_twin.py";
   EXPECT_NE(episode_defining_json(config), episode_defining_json(more_workers));
+  // key_points and optimum_seed define the episodes only where a least-squares search uses them.
+  ExperimentConfig with_deviations = config;
+  with_deviations.external_twin->key_points = 4;
+  with_deviations.external_twin->optimum_seed = 7;
+  EXPECT_EQ(episode_defining_json(config), episode_defining_json(with_deviations));
+  with_deviations.external_twin->optimum_method = "least_squares";
+  with_deviations.external_twin->optimum_budget = 32;
+  ExperimentConfig other_seed = with_deviations;
+  other_seed.external_twin->optimum_seed = 8;
+  EXPECT_NE(episode_defining_json(with_deviations), episode_defining_json(other_seed));
 }
 
 // The budgeted search (optimum_budget): BOBYQA alone, the first row and column of assemblies
@@ -218,10 +228,64 @@ TEST(ExternalCaseTwin, TrustRegionSearchFindsTheOptimumInBatches) {
   EXPECT_EQ(alone.search_requests(), alone_on_one.search_requests());
   settings.optimum_method = "powell";
   EXPECT_THAT(settings.validate().value_or(""),
-              HasSubstr("optimum_method: value is powell; rule: must be bobyqa or trust_region"));
+              HasSubstr("optimum_method: value is powell; rule: must be bobyqa, trust_region or "
+                        "least_squares"));
   nlohmann::json json = settings;
   json["optimum_method"] = "trust_region";
   EXPECT_EQ(json.get<ExternalTwinSettings>().optimum_method, "trust_region");
+}
+
+// optimum_method "least_squares": the program's key points' deviations (the minimal twin
+// answers its 4), Levenberg–Marquardt on them. Its deviations are affine in u, so the first step
+// lands on the optimum; the restarts, seeded by optimum_seed and the assembly, come back to it.
+// Same result for any number of workers, through the pool and on one worker, and the deviations
+// are the twin's too (TwinWithDeviations).
+TEST(ExternalCaseTwin, LeastSquaresSearchFindsTheOptimumFromTheProgramsDeviations) {
+  ExternalTwinSettings settings = minimal_twin(1);
+  settings.optimum_budget = 32;
+  settings.optimum_method = "least_squares";
+  settings.key_points = 4;
+  const ExternalCaseTwin one(settings);
+  settings.workers = 3;
+  const ExternalCaseTwin three(settings);
+  EXPECT_LE(one.search_evaluations(), 4U * 64U + 2U * 32U);
+  EXPECT_EQ(one.search_evaluations(), three.search_evaluations());
+  // A Jacobian's d = 3 controls go in one request, each step's end in another.
+  EXPECT_LT(one.search_requests(), one.search_evaluations());
+  EXPECT_EQ(one.search_requests(), three.search_requests());
+  for (const AssemblyId& x : one.assemblies()) {
+    const double q0 = 0.04 + 0.01 * static_cast<double>((3 * x.upper + 5 * x.lower) % 7);
+    EXPECT_NEAR(one.optimal_quality(x), std::sqrt(q0), 1e-9 * std::sqrt(q0))
+        << fmt::format("{}", x);
+    EXPECT_EQ(one.optimum(x), three.optimum(x));
+  }
+  EXPECT_EQ(one.key_point_count(), 4);
+  MatrixX deviations(4, 1);
+  one.deviations_batch({1, 2}, one.optimum({1, 2}), deviations);
+  EXPECT_NEAR(deviations.norm() / 2.0, one.optimal_quality({1, 2}), 1e-12);
+  // A scanned assembly alone: its rounds spread over the pool, to the same optimum.
+  const nlohmann::json parts = {{"upper", nlohmann::json::array({0.25, 0.5})},
+                                {"lower", nlohmann::json::array({1.5})}};
+  ExternalCaseTwin pooled(settings);
+  EXPECT_NEAR(pooled.optimal_quality(pooled.add_scanned(parts)), std::sqrt(0.04 + 0.01 * 2.75),
+              1e-9);
+  // The method needs the deviations; the settings say so, and round-trip through JSON.
+  settings.key_points = 0;
+  EXPECT_THAT(settings.validate().value_or(""),
+              HasSubstr("optimum_method: value is least_squares; rule: least_squares needs a "
+                        "program that answers its key points' deviations (key_points >= 1)"));
+  settings.key_points = -2;
+  EXPECT_THAT(settings.validate().value_or(""),
+              HasSubstr("key_points: value is -2; rule: must lie in [0, 1000000]"));
+  settings.key_points = 4;
+  settings.optimum_seed = 99;
+  const nlohmann::json json = settings;
+  const auto read = json.get<ExternalTwinSettings>();
+  EXPECT_EQ(read.key_points, 4);
+  EXPECT_EQ(read.optimum_seed, 99U);
+  nlohmann::json negative = json;
+  negative["optimum_seed"] = -1;
+  EXPECT_THROW((void)negative.get<ExternalTwinSettings>(), InvalidArgumentError);
 }
 
 // A program that answers null for some controls (a solver that did not converge there) does not
@@ -320,11 +384,20 @@ class FormulaBackend final : public ExternalTwinBackend {
   [[nodiscard]] const std::vector<std::string>& locator_names() const override { return names_; }
   [[nodiscard]] const VectorX& lower_bounds() const override { return lower_; }
   [[nodiscard]] const VectorX& upper_bounds() const override { return upper_; }
+  [[nodiscard]] Index key_point_count() const override { return 0; }
 
   void quality_batch(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const override {
     batches_ += 1;
     evaluate(assembly, controls, out);
+  }
+  void deviations_batch(const nlohmann::json&, const Eigen::Ref<const MatrixX>&,
+                        Eigen::Ref<MatrixX>) const override {
+    ExternalTwin::require_deviations(key_point_count());
+  }
+  void worker_deviations_batch(Index, const nlohmann::json&, const Eigen::Ref<const MatrixX>&,
+                               Eigen::Ref<MatrixX>) const override {
+    ExternalTwin::require_deviations(key_point_count());
   }
   void worker_quality_batch(Index worker, const nlohmann::json& assembly,
                             const Eigen::Ref<const MatrixX>& controls,

@@ -93,6 +93,31 @@ TEST(ExternalTwinPool, GivesTheSameQualitiesForAnyNumberOfWorkers) {
   }
 }
 
+// Deviations are spread like qualities: the same m × k block for any number of workers.
+TEST(ExternalTwinPool, GivesTheSameDeviationsForAnyNumberOfWorkers) {
+  const MatrixX controls = pool_controls(7);
+  ExternalTwinPoolOptions options = pool_options(1);
+  options.twin.key_points = 3;
+  MatrixX single(3, 7);
+  ExternalTwinPool(options).deviations_batch(kPoolAssembly, controls, single);
+  EXPECT_TRUE((single.colwise().norm().transpose() / std::sqrt(3.0))
+                  .isApprox(pool_expected(controls), 1e-15));
+  for (const Index workers : {3, 9}) {
+    options.workers = workers;
+    const ExternalTwinPool pool(options);
+    EXPECT_EQ(pool.key_point_count(), 3);
+    MatrixX out(3, 7);
+    pool.deviations_batch(kPoolAssembly, controls, out);
+    EXPECT_EQ(out, single) << workers << " workers";
+    pool.worker_deviations_batch(1, kPoolAssembly, controls, out);
+    EXPECT_EQ(out, single) << workers << " workers, on worker 1";
+  }
+  MatrixX deviations(3, 2);
+  EXPECT_THROW(ExternalTwinPool(pool_options(2))
+                   .deviations_batch(kPoolAssembly, pool_controls(2), deviations),
+               InvalidArgumentError);
+}
+
 TEST(ExternalTwinPool, CutsABatchIntoContiguousChunksOneWorkerEach) {
   const ExternalTwinPool pool(pool_options(3));
   VectorX pids(7);

@@ -214,11 +214,12 @@ TEST(ExternalTwin, ReportsAWrongCountAndKeepsTheChild) {
   const ExternalTwin twin(script_options());
   const pid_t first = pid_of(twin);
   VectorX out(2);
-  EXPECT_THAT([&] { twin.quality_batch(misbehaving("wrong_count"), MatrixX::Zero(2, 2), out); },
-              ::testing::Throws<ExternalTwinError>(::testing::Property(
-                  &ExternalTwinError::what,
-                  HasSubstr("twin: external twin wrong number of qualities: the reply has 3 "
-                            "qualities; rule: must have 2, one per control"))));
+  EXPECT_THAT(
+      [&] { twin.quality_batch(misbehaving("wrong_count"), MatrixX::Zero(2, 2), out); },
+      ::testing::Throws<ExternalTwinError>(::testing::Property(
+          &ExternalTwinError::what,
+          HasSubstr("twin: external twin wrong number of qualities or deviations: the reply has 3 "
+                    "qualities; rule: must have 2, one per control"))));
   EXPECT_EQ(pid_of(twin), first);
 }
 
@@ -237,10 +238,11 @@ TEST(ExternalTwin, RefusesANegativeOrHugeQualityAndKeepsTheChild) {
   const ExternalTwin twin(script_options());
   const pid_t first = pid_of(twin);
   VectorX out(2);
-  EXPECT_THAT([&] { twin.quality_batch(misbehaving("negative"), MatrixX::Zero(2, 2), out); },
-              ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr(
-                  "twin: external twin answered an implausible quality: quality 0 is -0.25; "
-                  "rule: a quality is an RMS deviation in [0, max_quality = 1000000] mm")));
+  EXPECT_THAT(
+      [&] { twin.quality_batch(misbehaving("negative"), MatrixX::Zero(2, 2), out); },
+      ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr(
+          "twin: external twin answered an implausible quality or deviation: quality 0 is -0.25; "
+          "rule: a quality is an RMS deviation in [0, max_quality = 1000000] mm")));
   EXPECT_EQ(failure_of(twin, misbehaving("huge")), ExternalTwinFailure::implausible_quality);
   EXPECT_THAT([&] { twin.quality_batch(misbehaving("huge"), MatrixX::Zero(2, 2), out); },
               ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr("quality 1 is 1e+300")));
@@ -304,6 +306,83 @@ TEST(ExternalTwin, ReapsItsChildOnDestruction) {
   }
   EXPECT_EQ(::kill(pid, 0), -1);
   EXPECT_EQ(errno, ESRCH);
+}
+
+// "deviations": true in the request: script_twin.py's d + 1 key points, whose RMS is its quality.
+TEST(ExternalTwin, AsksForTheKeyPointsDeviationsWhenKeyPointsAreSet) {
+  ExternalTwinOptions options = script_options();
+  options.key_points = 3;
+  const ExternalTwin twin(options);
+  static_assert(TwinWithDeviations<ExternalTwin>);
+  EXPECT_EQ(twin.key_point_count(), 3);
+  MatrixX controls(2, 3);
+  controls << 0.1, 0.4, -1.0 / 3.0, -0.2, 0.0, 2.0 / 7.0;
+  MatrixX deviations(3, 3);
+  twin.deviations_batch(kAssembly, controls, deviations);
+  VectorX qualities(3);
+  twin.quality_batch(kAssembly, controls, qualities);
+  for (Index j = 0; j < 3; ++j) {
+    EXPECT_NEAR(deviations(0, j), std::sqrt(3 * 0.25), 1e-15);
+    EXPECT_NEAR(deviations(1, j), std::sqrt(3.0) * (controls(0, j) - 0.1), 1e-15);
+    EXPECT_NEAR(deviations(2, j), std::sqrt(3.0) * (controls(1, j) + 0.2), 1e-15);
+    EXPECT_NEAR(deviations.col(j).norm() / std::sqrt(3.0), qualities(j), 1e-15);
+  }
+  // Without the qualities beside them too; null deviations are a NaN column.
+  json only = kAssembly;
+  only["deviations_only"] = true;
+  twin.deviations_batch(only, controls, deviations);
+  EXPECT_NEAR(deviations(1, 1), std::sqrt(3.0) * 0.3, 1e-15);
+  twin.deviations_batch(misbehaving("null"), controls, deviations);
+  EXPECT_TRUE(deviations.array().isNaN().all());
+}
+
+TEST(ExternalTwin, RefusesDeviationsThatBreakTheProtocolAndKeepsTheChild) {
+  ExternalTwinOptions options = script_options();
+  options.key_points = 3;
+  const ExternalTwin twin(options);
+  const pid_t first = pid_of(twin);
+  MatrixX deviations(3, 2);
+  const auto fails_with = [&](const std::string& mode, const std::string& detail) {
+    EXPECT_THAT([&] { twin.deviations_batch(misbehaving(mode), MatrixX::Zero(2, 2), deviations); },
+                ::testing::ThrowsMessage<ExternalTwinError>(HasSubstr(detail)))
+        << mode;
+  };
+  fails_with("wrong_count",
+             "wrong number of qualities or deviations: the reply has 3 arrays of deviations; "
+             "rule: must have 2, one per control");
+  fails_with("short", "control 0 has 2 deviations; rule: must have 3, one per key point");
+  fails_with("huge", "deviation 2 of control 1 is 1e+300");
+  fails_with("inconsistent",  // twice the quality, sqrt(0.25 + 0.01 + 0.04)
+             "quality 0 is 1.0954451150103321 but its deviations' RMS is 0.547722557505166");
+  fails_with("error", "assembly rejected on purpose");
+  EXPECT_EQ(pid_of(twin), first);
+  // A twin of 4 key points answering 3 is a wrong count.
+  options.key_points = 4;
+  const ExternalTwin four(options);
+  MatrixX wrong(4, 1);
+  EXPECT_THAT([&] { four.deviations_batch(kAssembly, MatrixX::Zero(2, 1), wrong); },
+              ::testing::ThrowsMessage<ExternalTwinError>(
+                  HasSubstr("control 0 has 3 deviations; rule: must have 4")));
+}
+
+TEST(ExternalTwin, RefusesDeviationsOfATwinWithoutKeyPointsBeforeSendingAnything) {
+  const ExternalTwin twin(script_options());
+  EXPECT_EQ(twin.key_point_count(), 0);
+  MatrixX deviations(3, 1);
+  EXPECT_THAT([&] { twin.deviations_batch(kAssembly, MatrixX::Zero(2, 1), deviations); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  HasSubstr("deviations: the twin answers qualities only; rule: set key_points")));
+  ExternalTwinOptions options = script_options();
+  options.key_points = 3;
+  const ExternalTwin three(options);
+  EXPECT_THAT(
+      [&] { three.deviations_batch(kAssembly, MatrixX::Zero(2, 1), deviations.topRows(2)); },
+      ::testing::ThrowsMessage<DimensionMismatchError>("out: rows is 2; rule: must equal 3"));
+  options.key_points = -1;
+  EXPECT_THAT([&] { const ExternalTwin negative(options); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  "options: key_points: value is -1; rule: must be >= 0"));
+  EXPECT_EQ(three.starts(), 1);
 }
 
 TEST(ExternalTwin, RejectsBadOptionsAndShapes) {

@@ -92,7 +92,9 @@ static_assert(!TwinWithDeviations<TwinWithMutableDeviations>);
 static_assert(!TwinWithDeviations<DeviationsWithoutQuality>);
 static_assert(TwinWithDeviations<KeyPointTwin<NoNonlinearity>>);
 static_assert(TwinWithDeviations<KeyPointTwin<ContactNonlinearity>>);
-static_assert(!TwinWithDeviations<RmsQuadraticTwin> && !TwinWithDeviations<ExternalTwin>);
+static_assert(!TwinWithDeviations<RmsQuadraticTwin>);
+// A program's deviations are known at run time (ExternalTwinOptions::key_points; 0 refuses them).
+static_assert(TwinWithDeviations<ExternalTwin>);
 static_assert(Twin<Evaluator<Evaluator<MinimalTwin>>>);
 
 // --- TwinWithKeptAssemblies: value assemblies yes, borrowed ones no, wrappers forward ----------

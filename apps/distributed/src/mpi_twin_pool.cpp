@@ -18,7 +18,7 @@ namespace twincal {
 using nlohmann::json;
 
 MpiTwinPool::MpiTwinPool(MpiTwinService& service, const ExternalTwinSettings& settings)
-    : service_(&service), twin_id_(service.next_twin_id()) {
+    : service_(&service), twin_id_(service.next_twin_id()), key_points_(settings.key_points) {
   require_valid("external_twin", settings);
   locator_names_ = settings.locators;
   lower_bounds_ =
@@ -48,23 +48,24 @@ MpiTwinPool::MpiTwinPool(MpiTwinService& service, const ExternalTwinSettings& se
 
 std::future<json> MpiTwinPool::send_chunk(int rank, const json& assembly,
                                           const Eigen::Ref<const MatrixX>& controls, Index begin,
-                                          Index count) const {
+                                          Index count, bool deviations) const {
   std::vector<double> values;
   values.reserve(static_cast<std::size_t>(controls.rows() * count));
   for (Index j = begin; j < begin + count; ++j) {
     for (Index i = 0; i < controls.rows(); ++i) values.push_back(controls(i, j));
   }
-  return service_->request(rank, MpiTwinService::evaluate_tag,
-                           json{{"twin", twin_id_},
-                                {"assembly", assembly},
-                                {"rows", controls.rows()},
-                                {"cols", count},
-                                {"controls", std::move(values)}});
+  json message{{"twin", twin_id_},
+               {"assembly", assembly},
+               {"rows", controls.rows()},
+               {"cols", count},
+               {"controls", std::move(values)}};
+  if (deviations) message["deviations"] = true;
+  return service_->request(rank, MpiTwinService::evaluate_tag, std::move(message));
 }
 
 void MpiTwinPool::take_reply(const json& reply, int rank, const json& assembly,
                              const Eigen::Ref<const MatrixX>& controls,
-                             Eigen::Ref<VectorX> out) const {
+                             Eigen::Ref<MatrixX> out) const {
   if (reply.contains("failure")) {
     throw ExternalTwinError(
         static_cast<ExternalTwinFailure>(reply.at("failure").get<int>()), assembly.dump(), controls,
@@ -74,17 +75,16 @@ void MpiTwinPool::take_reply(const json& reply, int rank, const json& assembly,
     throw Error("twin",
                 fmt::format("twin: rank {}: {}", rank, reply.at("error").get<std::string>()));
   }
-  const std::vector<double> qualities = reply.at("qualities").get<std::vector<double>>();
-  if (std::ssize(qualities) != out.size()) {
-    throw Error("twin", fmt::format("twin: rank {} answered {} qualities for {} controls", rank,
-                                    qualities.size(), out.size()));
+  const std::vector<double> values = reply.at("values").get<std::vector<double>>();
+  if (std::ssize(values) != out.size()) {
+    throw Error("twin", fmt::format("twin: rank {} answered {} values for {} controls × {}", rank,
+                                    values.size(), out.cols(), out.rows()));
   }
-  out = Eigen::Map<const VectorX>(qualities.data(), out.size());
+  out = Eigen::Map<const MatrixX>(values.data(), out.rows(), out.cols());
 }
 
-void MpiTwinPool::quality_batch(const json& assembly, const Eigen::Ref<const MatrixX>& controls,
-                                Eigen::Ref<VectorX> out) const {
-  require_control_batch(controls, out, control_dimension());
+void MpiTwinPool::spread(const json& assembly, const Eigen::Ref<const MatrixX>& controls,
+                         bool deviations, Eigen::Ref<MatrixX> out) const {
   require_finite("controls", controls);
   const Index k = controls.cols();
   if (k == 0) return;
@@ -94,7 +94,8 @@ void MpiTwinPool::quality_batch(const json& assembly, const Eigen::Ref<const Mat
   for (Index i = 0, begin = 0; i < chunks; ++i) {
     const Index count = k / chunks + (i < k % chunks ? 1 : 0);
     begins.push_back(begin);
-    replies.push_back(send_chunk(static_cast<int>(i) + 1, assembly, controls, begin, count));
+    replies.push_back(
+        send_chunk(static_cast<int>(i) + 1, assembly, controls, begin, count, deviations));
     begin += count;
   }
   begins.push_back(k);
@@ -104,7 +105,7 @@ void MpiTwinPool::quality_batch(const json& assembly, const Eigen::Ref<const Mat
     const Index count = begins[c + 1] - begins[c];
     try {
       take_reply(replies[c].get(), static_cast<int>(i) + 1, assembly,
-                 controls.middleCols(begins[c], count), out.segment(begins[c], count));
+                 controls.middleCols(begins[c], count), out.middleCols(begins[c], count));
     } catch (...) {
       if (!first_failure) first_failure = std::current_exception();
     }
@@ -112,19 +113,47 @@ void MpiTwinPool::quality_batch(const json& assembly, const Eigen::Ref<const Mat
   if (first_failure) std::rethrow_exception(first_failure);
 }
 
-void MpiTwinPool::worker_quality_batch(Index worker, const json& assembly,
-                                       const Eigen::Ref<const MatrixX>& controls,
-                                       Eigen::Ref<VectorX> out) const {
+void MpiTwinPool::ask_worker(Index worker, const json& assembly,
+                             const Eigen::Ref<const MatrixX>& controls, bool deviations,
+                             Eigen::Ref<MatrixX> out) const {
   if (worker < 0 || worker >= workers()) {
     throw InvalidArgumentError(
         "worker", fmt::format("worker: is {}; rule: must lie in [0, {})", worker, workers()));
   }
-  require_control_batch(controls, out, control_dimension());
   require_finite("controls", controls);
   if (controls.cols() == 0) return;
   const int rank = static_cast<int>(worker) + 1;
-  take_reply(send_chunk(rank, assembly, controls, 0, controls.cols()).get(), rank, assembly,
-             controls, out);
+  take_reply(send_chunk(rank, assembly, controls, 0, controls.cols(), deviations).get(), rank,
+             assembly, controls, out);
+}
+
+void MpiTwinPool::quality_batch(const json& assembly, const Eigen::Ref<const MatrixX>& controls,
+                                Eigen::Ref<VectorX> out) const {
+  require_control_batch(controls, out, control_dimension());
+  spread(assembly, controls, /*deviations=*/false, Eigen::Map<MatrixX>(out.data(), 1, out.size()));
+}
+
+void MpiTwinPool::worker_quality_batch(Index worker, const json& assembly,
+                                       const Eigen::Ref<const MatrixX>& controls,
+                                       Eigen::Ref<VectorX> out) const {
+  require_control_batch(controls, out, control_dimension());
+  ask_worker(worker, assembly, controls, /*deviations=*/false,
+             Eigen::Map<MatrixX>(out.data(), 1, out.size()));
+}
+
+void MpiTwinPool::deviations_batch(const json& assembly, const Eigen::Ref<const MatrixX>& controls,
+                                   Eigen::Ref<MatrixX> out) const {
+  ExternalTwin::require_deviations(key_points_);
+  require_deviations_batch(controls, out, control_dimension(), key_points_);
+  spread(assembly, controls, /*deviations=*/true, out);
+}
+
+void MpiTwinPool::worker_deviations_batch(Index worker, const json& assembly,
+                                          const Eigen::Ref<const MatrixX>& controls,
+                                          Eigen::Ref<MatrixX> out) const {
+  ExternalTwin::require_deviations(key_points_);
+  require_deviations_batch(controls, out, control_dimension(), key_points_);
+  ask_worker(worker, assembly, controls, /*deviations=*/true, out);
 }
 
 }  // namespace twincal

@@ -145,14 +145,22 @@ void serve_twin_requests(const MpiEnvironment& mpi) {
         const json& data = message.at("controls");
         const Index rows = message.at("rows").get<Index>();
         const Index cols = message.at("cols").get<Index>();
-        const std::vector<double> values = data.get<std::vector<double>>();
-        if (std::ssize(values) != rows * cols) {
+        const std::vector<double> given = data.get<std::vector<double>>();
+        if (std::ssize(given) != rows * cols) {
           throw Error("controls", "controls: their data does not fill rows × cols");
         }
-        const Eigen::Map<const MatrixX> controls(values.data(), rows, cols);
-        VectorX qualities(cols);
-        found->second->quality_batch(message.at("assembly"), controls, qualities);
-        reply["qualities"] = std::vector<double>(qualities.data(), qualities.data() + cols);
+        const Eigen::Map<const MatrixX> controls(given.data(), rows, cols);
+        const ExternalTwinPool& pool = *found->second;
+        // Column-major, as rank 0 reads them: 1 × cols qualities or m × cols deviations.
+        const bool deviations = message.value("deviations", false);
+        MatrixX values(deviations ? pool.key_point_count() : 1, cols);
+        if (deviations) {
+          pool.deviations_batch(message.at("assembly"), controls, values);
+        } else {
+          pool.quality_batch(message.at("assembly"), controls,
+                             Eigen::Map<VectorX>(values.data(), cols));
+        }
+        reply["values"] = std::vector<double>(values.data(), values.data() + values.size());
       }
     } catch (const ExternalTwinError& error) {
       reply["failure"] = static_cast<int>(error.failure());

@@ -337,6 +337,14 @@ nlohmann::json episode_defining_json(const ExperimentConfig& config) {
       json[program].erase("workers");
       json[program].erase("timeout_ms");
       json[program].erase("startup_grace_ms");
+      // The deviations and the restarts' seed matter only to a least-squares u0 search (and
+      // results stored before they existed stay the same group).
+      const nlohmann::json& settings = json[program];
+      if (settings.value("optimum_method", "") != "least_squares" ||
+          settings.value("optimum_budget", Index{0}) == 0) {
+        json[program].erase("key_points");
+        json[program].erase("optimum_seed");
+      }
     }
   }
   // An unset σz² and its case default give the same episodes.

@@ -12,10 +12,12 @@
 #include <fmt/format.h>
 
 #include "twincal/controllers/additive_warm_start.hpp"
+#include "twincal/controllers/least_squares_search.hpp"
 #include "twincal/controllers/nlopt_optimizer.hpp"
 #include "twincal/controllers/trust_region_search.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
+#include "twincal/core/random_stream.hpp"
 #include "twincal/core/validate.hpp"
 
 namespace twincal {
@@ -31,6 +33,7 @@ ExternalTwinPoolOptions external_twin_pool_options(const ExternalTwinSettings& s
       Eigen::Map<const VectorX>(settings.upper_bounds.data(), std::ssize(settings.upper_bounds));
   options.twin.timeout = std::chrono::milliseconds{settings.timeout_ms};
   options.twin.startup_grace = std::chrono::milliseconds{settings.startup_grace_ms};
+  options.twin.key_points = settings.key_points;
   options.workers = settings.workers;
   return options;
 }
@@ -65,7 +68,8 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings,
       global_evaluations_(settings.optimum_global_evaluations),
       local_evaluations_(settings.optimum_local_evaluations),
       budget_(settings.optimum_budget),
-      trust_region_(settings.optimum_method == "trust_region") {
+      method_(settings.optimum_method),
+      seed_(settings.optimum_seed) {
   for (Index i = 0; i < settings.upper_parts; ++i) {
     for (Index j = 0; j < settings.lower_parts; ++j) assemblies_.push_back({i, j});
   }
@@ -133,10 +137,17 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
     Index worker, bool whole_pool, const nlohmann::json& assembly, const VectorX& start,
     Index global_evaluations, Index local_evaluations, Eigen::Ref<VectorX> optimum,
     double& quality) const {
-  if (budget_ > 0 && trust_region_) {
+  const ExternalTwinBackend& twin = *backend_;
+  // The search's start had no quality: the twin cannot evaluate this assembly's centre.
+  const auto unevaluable_start = [&](const NonFiniteError& error) {
+    return InvalidArgumentError(
+        "optimum", fmt::format("optimum: the twin answered no quality for assembly {} ({}); "
+                               "rule: the u0 search needs evaluable controls",
+                               assembly.dump(), error.what()));
+  };
+  if (budget_ > 0 && method_ == "trust_region") {
     TrustRegionSearchOptions options;
     options.evaluations = static_cast<std::uint64_t>(local_evaluations);
-    const ExternalTwinBackend& twin = *backend_;
     // A round's controls spread over the pool when this is the only search (a scanned
     // assembly, a phase of one), else one request to this worker.
     const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
@@ -151,10 +162,30 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
     try {
       found = TrustRegionSearch(options).minimize(objective, start, lower_bounds(), upper_bounds());
     } catch (const NonFiniteError& error) {
-      throw InvalidArgumentError(
-          "optimum", fmt::format("optimum: the twin answered no quality for assembly {} ({}); "
-                                 "rule: the u0 search needs evaluable controls",
-                                 assembly.dump(), error.what()));
+      throw unevaluable_start(error);
+    }
+    optimum = found.argmin;
+    quality = found.minimum;
+    return {found.evaluations, static_cast<std::uint64_t>(found.batches)};
+  }
+  if (budget_ > 0 && method_ == "least_squares") {
+    LeastSquaresSearchOptions options;
+    options.evaluations = static_cast<std::uint64_t>(local_evaluations);
+    const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
+                                             Eigen::Ref<MatrixX> deviations) {
+      if (whole_pool) {
+        twin.deviations_batch(assembly, controls, deviations);
+      } else {
+        twin.worker_deviations_batch(worker, assembly, controls, deviations);
+      }
+    };
+    LeastSquaresSearchResult found;
+    try {
+      found = LeastSquaresSearch(options).minimize(objective, twin.key_point_count(), start,
+                                                   lower_bounds(), upper_bounds(),
+                                                   RandomStream(seed_).substream(assembly.dump()));
+    } catch (const NonFiniteError& error) {
+      throw unevaluable_start(error);
     }
     optimum = found.argmin;
     quality = found.minimum;
@@ -163,7 +194,6 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
   NloptOptimizerOptions budgets;
   budgets.global_evaluations = static_cast<std::uint64_t>(global_evaluations);
   budgets.local_evaluations = static_cast<std::uint64_t>(local_evaluations);
-  const ExternalTwinBackend& twin = *backend_;
   // A control the program cannot evaluate (it answers null: a solver that did not converge)
   // counts, for the search only, as worse than anything seen: 2 × the largest quality so far
   // + 1 mm. The optimum is the best control the program did evaluate.

@@ -56,8 +56,16 @@ std::optional<std::string> ExternalTwinSettings::validate() const {
        rule::check(
            optimum_budget <= 0 || optimum_budget >= 2 * d + 2, "optimum_budget", optimum_budget,
            "0 or >= 2d + 2 = {} (BOBYQA's first model needs 2d + 1 evaluations)", 2 * d + 2),
-       rule::check(optimum_method == "bobyqa" || optimum_method == "trust_region", "optimum_method",
-                   optimum_method, "must be bobyqa or trust_region"),
+       rule::check(optimum_method == "bobyqa" || optimum_method == "trust_region" ||
+                       optimum_method == "least_squares",
+                   "optimum_method", optimum_method,
+                   "must be bobyqa, trust_region or least_squares"),
+       rule::check(key_points >= 0 && key_points <= max_key_points, "key_points", key_points,
+                   "must lie in [0, {}]", max_key_points),
+       rule::check(optimum_method != "least_squares" || key_points >= 1, "optimum_method",
+                   optimum_method,
+                   "least_squares needs a program that answers its key points' deviations "
+                   "(key_points >= 1)"),
        rule::at_least("timeout_ms", timeout_ms, Index{1}),
        rule::at_least("startup_grace_ms", startup_grace_ms, Index{0})});
 }
@@ -75,7 +83,9 @@ void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {
           {"optimum_global_evaluations", settings.optimum_global_evaluations},
           {"optimum_local_evaluations", settings.optimum_local_evaluations},
           {"optimum_budget", settings.optimum_budget},
-          {"optimum_method", settings.optimum_method}};
+          {"optimum_method", settings.optimum_method},
+          {"optimum_seed", settings.optimum_seed},
+          {"key_points", settings.key_points}};
 }
 
 void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
@@ -127,12 +137,17 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
         read.optimum_budget = strict_value<Index>(value, field);
       } else if (key == "optimum_method") {
         read.optimum_method = value.get<std::string>();
+      } else if (key == "optimum_seed") {
+        read.optimum_seed = strict_value<std::uint64_t>(value, field);
+      } else if (key == "key_points") {
+        read.key_points = strict_value<Index>(value, field);
       } else {
         throw InvalidArgumentError(
             field, fmt::format("config: key \"{}\" is unknown; rule: must be one of [command, "
                                "locators, lower_bounds, upper_bounds, upper_parts, lower_parts, "
                                "workers, timeout_ms, startup_grace_ms, optimum_global_evaluations, "
-                               "optimum_local_evaluations, optimum_budget, optimum_method]",
+                               "optimum_local_evaluations, optimum_budget, optimum_method, "
+                               "optimum_seed, key_points]",
                                field));
       }
     } catch (const nlohmann::json::exception& error) {

@@ -42,6 +42,9 @@ class InfluenceCoefficientTwin {
   /// y0 = y_U(i) + y_L(j), the key-point deviations at u = 0.
   /// @throws InvalidArgumentError for an assembly outside the parts.
   [[nodiscard]] VectorX unadjusted_deviations(const AssemblyId& assembly) const;
+  /// y0 of any parts (a scanned assembly): one linear CalculiX solve.
+  /// @throws CalculixError when that solve fails.
+  [[nodiscard]] VectorX unadjusted_deviations(const CalculixParts& parts) const;
   [[nodiscard]] double quality(const AssemblyId& assembly,
                                const Eigen::Ref<const VectorX>& control) const;
   void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
@@ -57,11 +60,19 @@ class InfluenceCoefficientTwin {
   ///         controls or out of the wrong shape.
   void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
                         Eigen::Ref<MatrixX> out) const;
+  /// The deviations of any parts (a scanned assembly): one linear solve for y0, then B.
+  /// @throws CalculixError when that solve fails; DimensionMismatchError for bad shapes.
+  void deviations_batch(const CalculixParts& parts, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const;
   /// u0(x) = argmin over the box of ‖y0 + B u‖ (bounded least squares, exact), eq. (3).
   [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const;
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const;
 
  private:
+  // y0 + B u for every column u of `controls`, column by column: a batch gives each control's
+  // deviations to the bit.
+  void deviations_from(const VectorX& y0, const Eigen::Ref<const MatrixX>& controls,
+                       Eigen::Ref<MatrixX> out) const;
   // Q = ‖y0 + B u‖/√m for every column u of `controls`.
   void qualities_from(const VectorX& y0, const Eigen::Ref<const MatrixX>& controls,
                       Eigen::Ref<VectorX> out) const;

@@ -8,6 +8,11 @@
 ///   reply    {"qualities": [q_1, …, q_k]}    numbers, in request order; null for a quality the
 ///                                           twin could not compute (reported as non-finite)
 ///        or  {"error": "<message>"}          the twin refuses this request
+/// A twin that also answers its m key points' deviations r(x, u), Q = ‖r‖ / √m (`key_points`
+/// = m; models' TwinWithDeviations), is asked for them with "deviations": true in the request:
+///   reply    {"deviations": [[r_1, …, r_m], …]}  one array per control, null for a control it
+///                                           could not evaluate; "qualities" may come too, and
+///                                           must then equal each array's RMS
 /// A reply may echo "id" (recommended): a reply with another id is rejected, which catches a
 /// child that answers out of step. Exactly one reply line per request.
 /// The child is started once (argv `options.command`, its stdin and stdout connected to one
@@ -17,10 +22,12 @@
 ///   - it exits or closes its stdout during a request      → crashed      (restarted on next use)
 ///   - no complete reply line before the deadline          → timeout      (killed, restarted)
 ///   - a reply that is not the JSON above                   → malformed_reply (killed, restarted)
-///   - a reply with the wrong number of qualities           → wrong_count  (kept: the line
-///                                                                          framing is intact)
+///   - a reply with the wrong number of qualities (or of    → wrong_count  (kept: the line
+///     deviations: arrays, or entries of one)                             framing is intact)
 ///   - an {"error": …} reply                                → twin_error   (kept)
-///   - a quality below 0 or above max_quality (1e6 mm)      → implausible_quality (kept)
+///   - a quality below 0 or above max_quality (1e6 mm), a   → implausible_quality (kept)
+///     deviation beyond ±max_quality, or qualities that are
+///     not their deviations' RMS
 /// each as an ExternalTwinError carrying the assembly and the controls of the request. The child
 /// runs in its own process group, so killing it also kills programs it started. Requests are
 /// serialized by a mutex: the twin may be shared by threads, one request is in flight at a time.
@@ -82,6 +89,9 @@ struct ExternalTwinOptions {
   /// implausible_quality instead of being fed to a filter. null stays the way to say "could not
   /// compute this control".
   double max_quality = 1e6;
+  /// m, the key points whose deviations the twin answers when a request asks for them
+  /// ("deviations": true); 0 for a twin that answers qualities only.
+  Index key_points = 0;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     const Index d = std::ssize(locator_names);
@@ -96,6 +106,7 @@ struct ExternalTwinOptions {
          rule::check(timeout.count() > 0, "timeout", timeout.count(), "must be > 0 (ms)"),
          rule::at_least("max_reply_bytes", max_reply_bytes, decltype(max_reply_bytes){1024}),
          rule::positive_finite("max_quality", max_quality),
+         rule::at_least("key_points", key_points, Index{0}),
          rule::check_fields(startup_grace.count() >= 0 && shutdown_grace.count() >= 0,
                             "startup_grace and shutdown_grace",
                             std::array{startup_grace.count(), shutdown_grace.count()},
@@ -187,6 +198,9 @@ class ExternalTwin {
     stop(/*graceful=*/false);
   }
 
+  /// m, the key points of deviations_batch (0: the twin answers qualities only).
+  [[nodiscard]] Index key_point_count() const noexcept { return options_.key_points; }
+
   /// One request with every column of `controls`; a null quality comes back as NaN.
   /// @throws DimensionMismatchError for bad shapes; ExternalTwinError on a failure.
   void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
@@ -194,38 +208,38 @@ class ExternalTwin {
     require_control_batch(controls, out, control_dimension());
     require_finite("controls", controls);  // JSON has no NaN or ∞
     if (controls.cols() == 0) return;
-    const std::lock_guard lock(mutex_);
-    const std::uint64_t id = ++requests_;
-    nlohmann::json request = {
-        {"id", id}, {"assembly", assembly}, {"controls", nlohmann::json::array()}};
-    for (Index j = 0; j < controls.cols(); ++j) {
-      nlohmann::json control = nlohmann::json::array();
-      for (Index i = 0; i < controls.rows(); ++i) control.push_back(controls(i, j));
-      request["controls"].push_back(std::move(control));
-    }
-    const std::string line = request.dump() + '\n';
+    exchange(assembly, controls, /*deviations=*/false,
+             [&](const std::string& reply, std::uint64_t id) {
+               return read_twin_reply(reply, id, options_.max_quality, out);
+             });
+  }
 
-    const auto fail = [&](ExternalTwinFailure failure, const std::string& detail) {
-      return ExternalTwinError(failure, assembly.dump(), controls, detail);
-    };
-    if (running()) drain();
-    if (running() && !buffer_.empty()) {
-      // A correct child never writes without a request: the stream cannot be trusted.
-      const std::string unsolicited = buffer_;
-      const std::string ended = stop(/*graceful=*/false);
-      throw fail(ExternalTwinFailure::malformed_reply,
-                 fmt::format("unrequested output {} before the request; the child {} and "
-                             "will be restarted",
-                             quoted_output(unsolicited), ended));
+  /// One request with every column of `controls` that asks for the key points' deviations:
+  /// out.col(j) = r(x, controls.col(j)) (m × k), a NaN column for a control the twin could not
+  /// evaluate (TwinWithDeviations).
+  /// @throws InvalidArgumentError when key_points is 0; DimensionMismatchError for bad shapes;
+  ///         ExternalTwinError on a failure.
+  void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const {
+    require_deviations(key_point_count());
+    require_deviations_batch(controls, out, control_dimension(), key_point_count());
+    require_finite("controls", controls);
+    if (controls.cols() == 0) return;
+    exchange(assembly, controls, /*deviations=*/true,
+             [&](const std::string& reply, std::uint64_t id) {
+               return read_twin_deviations_reply(reply, id, options_.max_quality, out);
+             });
+  }
+
+  /// Refuses deviations from a twin of `key_points` = 0, naming the setting that would allow them.
+  /// @throws InvalidArgumentError.
+  static void require_deviations(Index key_points) {
+    if (key_points == 0) {
+      throw InvalidArgumentError(
+          "deviations",
+          "deviations: the twin answers qualities only; rule: set key_points (m, "
+          "the length of each control's deviations) to ask a twin for them");
     }
-    if (!running()) start(assembly, controls);
-    const Clock::time_point deadline =
-        Clock::now() + options_.timeout +
-        (answered_ ? std::chrono::milliseconds{0} : options_.startup_grace);
-    send_all(line, deadline, fail);
-    const std::string reply = receive_line(deadline, fail);
-    answered_ = true;
-    parse_reply(reply, id, out, fail);
   }
 
   /// Q(x, u): one request with one control.
@@ -403,12 +417,45 @@ class ExternalTwin {
     }
   }
 
-  // Must hold mutex_. Reads the reply's qualities into `out`; a reply that is not the protocol's
-  // JSON also stops the child (the stream cannot be trusted), which is restarted on next use.
-  template <typename Fail>
-  void parse_reply(const std::string& line, std::uint64_t id, Eigen::Ref<VectorX> out,
-                   const Fail& fail) const {
-    std::optional<TwinReplyFault> fault = read_twin_reply(line, id, options_.max_quality, out);
+  // One request and its reply, read by `read` (read_twin_reply or read_twin_deviations_reply);
+  // a reply that is not the protocol's JSON also stops the child (the stream cannot be
+  // trusted), which is restarted on next use.
+  template <typename Read>
+  void exchange(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                bool deviations, const Read& read) const {
+    const std::lock_guard lock(mutex_);
+    const std::uint64_t id = ++requests_;
+    nlohmann::json request = {
+        {"id", id}, {"assembly", assembly}, {"controls", nlohmann::json::array()}};
+    for (Index j = 0; j < controls.cols(); ++j) {
+      nlohmann::json control = nlohmann::json::array();
+      for (Index i = 0; i < controls.rows(); ++i) control.push_back(controls(i, j));
+      request["controls"].push_back(std::move(control));
+    }
+    if (deviations) request["deviations"] = true;
+    const std::string line = request.dump() + '\n';
+
+    const auto fail = [&](ExternalTwinFailure failure, const std::string& detail) {
+      return ExternalTwinError(failure, assembly.dump(), controls, detail);
+    };
+    if (running()) drain();
+    if (running() && !buffer_.empty()) {
+      // A correct child never writes without a request: the stream cannot be trusted.
+      const std::string unsolicited = buffer_;
+      const std::string ended = stop(/*graceful=*/false);
+      throw fail(ExternalTwinFailure::malformed_reply,
+                 fmt::format("unrequested output {} before the request; the child {} and "
+                             "will be restarted",
+                             quoted_output(unsolicited), ended));
+    }
+    if (!running()) start(assembly, controls);
+    const Clock::time_point deadline =
+        Clock::now() + options_.timeout +
+        (answered_ ? std::chrono::milliseconds{0} : options_.startup_grace);
+    send_all(line, deadline, fail);
+    const std::string reply = receive_line(deadline, fail);
+    answered_ = true;
+    std::optional<TwinReplyFault> fault = read(reply, id);
     if (!fault) return;
     if (fault->failure == ExternalTwinFailure::malformed_reply) {
       const std::string ended = stop(/*graceful=*/false);
@@ -427,6 +474,6 @@ class ExternalTwin {
   mutable std::uint64_t requests_ = 0;
 };
 
-static_assert(Twin<ExternalTwin>);
+static_assert(TwinWithDeviations<ExternalTwin>);
 
 }  // namespace twincal

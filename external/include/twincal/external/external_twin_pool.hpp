@@ -15,11 +15,15 @@
 /// worker, after every chunk has finished. The error of the lowest failing chunk is the one
 /// thrown, so a failure is reported the same way whatever the timing.
 ///
+/// Deviations (deviations_batch, for a twin of `key_points` m > 0) are spread and retried the
+/// same way, each chunk's m × count block landing in its columns.
+///
 /// Thread-safe: concurrent batches share the workers, each worker serving one request at a
 /// time. It is the ExternalTwinBackend of a twin run on this machine.
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -77,6 +81,9 @@ class ExternalTwinPool final : public ExternalTwinBackend {
   [[nodiscard]] const VectorX& upper_bounds() const noexcept override {
     return workers_.front()->upper_bounds();
   }
+  [[nodiscard]] Index key_point_count() const noexcept override {
+    return workers_.front()->key_point_count();
+  }
   [[nodiscard]] const ExternalTwinPoolOptions& options() const noexcept { return options_; }
   /// Worker `w` itself (0 ≤ w < workers()), for owners that keep one worker busy per thread
   /// (e.g. searching one assembly's optimum per worker); no retry on this path.
@@ -105,16 +112,32 @@ class ExternalTwinPool final : public ExternalTwinBackend {
     this->worker(worker).quality_batch(assembly, controls, out);
   }
 
+  /// The key points' deviations of every column of `controls` (m × k), spread over the workers
+  /// as quality_batch spreads qualities; a NaN column where the twin could not evaluate.
+  /// @throws InvalidArgumentError when key_points is 0; otherwise as quality_batch.
+  void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const override;
+  /// The deviations of every column of `controls` as one request to worker `worker` (no retry).
+  void worker_deviations_batch(Index worker, const Assembly& assembly,
+                               const Eigen::Ref<const MatrixX>& controls,
+                               Eigen::Ref<MatrixX> out) const override {
+    this->worker(worker).deviations_batch(assembly, controls, out);
+  }
+
  private:
-  // Evaluates columns [begin, begin + count) on worker `w`, retrying once.
-  void evaluate_chunk(Index w, const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
-                      Index begin, Index count, Eigen::Ref<VectorX> out) const;
+  // Columns [begin, begin + count) of a batch, asked of one worker.
+  using ChunkRequest = std::function<void(const ExternalTwin& worker, Index begin, Index count)>;
+  // Cuts k columns into chunks, one per worker, and runs them at once; rethrows the lowest
+  // failing chunk's error after every chunk has finished.
+  void spread(Index k, const ChunkRequest& request) const;
+  // Runs columns [begin, begin + count) on worker `w`, retrying once.
+  void evaluate_chunk(Index w, Index begin, Index count, const ChunkRequest& request) const;
 
   ExternalTwinPoolOptions options_;
   std::vector<std::unique_ptr<ExternalTwin>> workers_;
   std::unique_ptr<std::atomic<std::uint64_t>> retries_;  // heap: keeps the pool movable
 };
 
-static_assert(Twin<ExternalTwinPool>);
+static_assert(TwinWithDeviations<ExternalTwinPool>);
 
 }  // namespace twincal

@@ -1,8 +1,9 @@
 #pragma once
 /// @file
-/// `read_twin_reply`: the qualities of one reply line of the external-twin protocol
-/// (docs/external.md), or what is wrong with it. Pure — no process, no I/O — so the parser the
-/// twins' bytes reach first is tested and fuzzed on its own (fuzz/twin_reply_fuzzer.cpp).
+/// `read_twin_reply` and `read_twin_deviations_reply`: the qualities (or the key points'
+/// deviations) of one reply line of the external-twin protocol (docs/external.md), or what is
+/// wrong with it. Pure — no process, no I/O — so the parser the twins' bytes reach first is
+/// tested and fuzzed on its own (fuzz/twin_reply_fuzzer.cpp).
 
 #include <cstdint>
 #include <optional>
@@ -29,6 +30,16 @@ struct TwinReplyFault {
 [[nodiscard]] std::optional<TwinReplyFault> read_twin_reply(std::string_view line, std::uint64_t id,
                                                             double max_quality,
                                                             Eigen::Ref<VectorX> qualities);
+
+/// Reads `line`, the reply to a request `id` that asked for the key points' deviations
+/// ("deviations": true), into `deviations` (m × k: one column per control): each control's
+/// entry is an array of m numbers in [−max_quality, max_quality] mm, or null for a control the
+/// twin could not evaluate (a NaN column). A "qualities" array beside them is optional; when
+/// present it must hold RMS(r) of each control to a relative 1e-6 (implausible_quality
+/// otherwise), so a twin cannot answer two different truths. Faults as read_twin_reply;
+/// `deviations` is unspecified after one.
+[[nodiscard]] std::optional<TwinReplyFault> read_twin_deviations_reply(
+    std::string_view line, std::uint64_t id, double max_quality, Eigen::Ref<MatrixX> deviations);
 
 /// The first 200 bytes of a child's output as a JSON string: bytes that are not UTF-8 become
 /// U+FFFD, so a message can go anywhere text goes (a results file, a serve reply).

@@ -37,6 +37,7 @@ class MpiTwinPool final : public ExternalTwinBackend {
   }
   [[nodiscard]] const VectorX& lower_bounds() const override { return lower_bounds_; }
   [[nodiscard]] const VectorX& upper_bounds() const override { return upper_bounds_; }
+  [[nodiscard]] Index key_point_count() const override { return key_points_; }
 
   /// @throws DimensionMismatchError, NonFiniteError (controls) before anything is sent;
   ///         ExternalTwinError when a chunk fails on its rank (after the rank's retry).
@@ -45,21 +46,39 @@ class MpiTwinPool final : public ExternalTwinBackend {
   void worker_quality_batch(Index worker, const nlohmann::json& assembly,
                             const Eigen::Ref<const MatrixX>& controls,
                             Eigen::Ref<VectorX> out) const override;
+  /// As quality_batch, with the key points' deviations (m × k; the ranks' pools ask their
+  /// processes for them). @throws InvalidArgumentError when key_points is 0.
+  void deviations_batch(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const override;
+  void worker_deviations_batch(Index worker, const nlohmann::json& assembly,
+                               const Eigen::Ref<const MatrixX>& controls,
+                               Eigen::Ref<MatrixX> out) const override;
 
  private:
-  // Sends columns [begin, begin + count) to `rank`; the reply's future.
+  // Sends columns [begin, begin + count) to `rank`, asking for qualities or deviations; the
+  // reply's future.
   [[nodiscard]] std::future<nlohmann::json> send_chunk(int rank, const nlohmann::json& assembly,
                                                        const Eigen::Ref<const MatrixX>& controls,
-                                                       Index begin, Index count) const;
-  // Copies a reply's qualities into `out`, or throws its failure.
+                                                       Index begin, Index count,
+                                                       bool deviations) const;
+  // Copies a reply's values (1 × count qualities or m × count deviations) into `out`, or throws
+  // its failure.
   void take_reply(const nlohmann::json& reply, int rank, const nlohmann::json& assembly,
-                  const Eigen::Ref<const MatrixX>& controls, Eigen::Ref<VectorX> out) const;
+                  const Eigen::Ref<const MatrixX>& controls, Eigen::Ref<MatrixX> out) const;
+  // The whole batch, spread over the ranks: rows of `out` are 1 (qualities) or m (deviations).
+  void spread(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
+              bool deviations, Eigen::Ref<MatrixX> out) const;
+  // One request of every column to the rank of `worker`.
+  void ask_worker(Index worker, const nlohmann::json& assembly,
+                  const Eigen::Ref<const MatrixX>& controls, bool deviations,
+                  Eigen::Ref<MatrixX> out) const;
 
   MpiTwinService* service_;
   std::int64_t twin_id_;
   std::vector<std::string> locator_names_;
   VectorX lower_bounds_;
   VectorX upper_bounds_;
+  Index key_points_;
 };
 
 }  // namespace twincal

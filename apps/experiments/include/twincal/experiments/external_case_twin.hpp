@@ -71,6 +71,14 @@ class ExternalCaseTwin {
                      Eigen::Ref<VectorX> out) const {
     backend_->quality_batch(assembly_json(assembly), controls, out);
   }
+  /// m, the key points of deviations_batch (external_twin.key_points; 0: qualities only).
+  [[nodiscard]] Index key_point_count() const { return backend_->key_point_count(); }
+  /// The key points' deviations of every column of `controls` (m × k), through the backend.
+  /// @throws InvalidArgumentError when key_points is 0; as quality_batch otherwise.
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const {
+    backend_->deviations_batch(assembly_json(assembly), controls, out);
+  }
   /// u0(x) as searched at construction (or by add_scanned()).
   [[nodiscard]] VectorX optimum(const AssemblyId& assembly) const {
     return optima_.col(position(assembly));
@@ -94,7 +102,7 @@ class ExternalCaseTwin {
     return search_cost_.evaluations;
   }
   /// Requests the optimum searches made: one per evaluation for BOBYQA, one per batch (round of
-  /// the twin's latency) for the trust region.
+  /// the twin's latency) for the trust region and least squares.
   [[nodiscard]] std::uint64_t search_requests() const noexcept { return search_cost_.requests; }
   /// Where the evaluations run (an ExternalTwinPool unless another backend was made).
   [[nodiscard]] const ExternalTwinBackend& backend() const noexcept { return *backend_; }
@@ -109,8 +117,8 @@ class ExternalCaseTwin {
   // u0 and z* of `assembly` (as the program receives it), searched with worker `worker` from
   // `start` with NLopt's two phases and these budgets, into `optimum` and `quality`; returns the
   // evaluations it took.
-  // The trust region (optimum_method) runs when the search is budgeted; with `whole_pool` (no
-  // other search in flight) its rounds spread over every worker.
+  // The trust region or least squares (optimum_method) runs when the search is budgeted; with
+  // `whole_pool` (no other search in flight) its rounds spread over every worker.
   struct SearchCost {
     std::uint64_t evaluations = 0;
     std::uint64_t requests = 0;
@@ -133,8 +141,9 @@ class ExternalCaseTwin {
   Index lower_parts_;
   Index global_evaluations_;
   Index local_evaluations_;
-  Index budget_;       // optimum_budget: 0 for the full search
-  bool trust_region_;  // optimum_method: TrustRegionSearch instead of BOBYQA
+  Index budget_;        // optimum_budget: 0 for the full search
+  std::string method_;  // optimum_method: how a budgeted search runs
+  std::uint64_t seed_;  // optimum_seed: the least-squares restarts
   std::vector<AssemblyId> assemblies_;
   std::vector<nlohmann::json> scanned_parts_;  // k-th scanned assembly's parts
   std::map<std::string, Index> scanned_ids_;   // parts (compact JSON) → k
@@ -143,6 +152,6 @@ class ExternalCaseTwin {
   SearchCost search_cost_;
 };
 
-static_assert(TwinWithOptimum<ExternalCaseTwin>);
+static_assert(TwinWithOptimum<ExternalCaseTwin> && TwinWithDeviations<ExternalCaseTwin>);
 
 }  // namespace twincal

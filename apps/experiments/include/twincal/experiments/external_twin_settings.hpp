@@ -11,8 +11,9 @@
 ///    "upper_parts": 10, "lower_parts": 10, "workers": 4, "timeout_ms": 10000,
 ///    "startup_grace_ms": 10000,
 ///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000,
-///    "optimum_budget": 0, "optimum_method": "bobyqa"}
+///    "optimum_budget": 0, "optimum_method": "bobyqa", "optimum_seed": 2023, "key_points": 0}
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,15 +45,25 @@ struct ExternalTwinSettings {
   /// start u0(i, 0) + u0(0, j) − u0(0, 0) (controllers' additive_warm_start.hpp), and with 2B
   /// from the centre for the first row and column of assemblies and for scanned ones.
   Index optimum_budget = 0;
-  /// How a budgeted search runs: "bobyqa" (NLopt's BOBYQA, one evaluation per request) or
-  /// "trust_region" (controllers' TrustRegionSearch: 2d + 1 controls in its first request,
-  /// d + 1 in each later one, each assembly's requests to one worker). The trust region waits
-  /// on the twin 10 to 25 times less often and its batches can share a solver deck; BOBYQA gets
-  /// closer to z* per evaluation where Q has kinks at d = 3 (docs/benchmarks.md, "Budgeted u0").
-  /// Unused when optimum_budget is 0.
+  /// How a budgeted search runs: "bobyqa" (NLopt's BOBYQA, one evaluation per request),
+  /// "trust_region" (controllers' TrustRegionSearch on Q: 2d + 1 controls in its first request,
+  /// d + 1 in each later one) or "least_squares" (controllers' LeastSquaresSearch on the key
+  /// points' deviations, for a twin that answers them: `key_points` > 0; d controls per
+  /// Jacobian, one per step). Each assembly's requests go to one worker. The trust region waits
+  /// on the twin 10 to 25 times less often than BOBYQA and its batches can share a solver deck;
+  /// least squares crosses the kinks of contact that stall both (docs/benchmarks.md, "Budgeted
+  /// u0"). Unused when optimum_budget is 0.
   std::string optimum_method = "bobyqa";
+  /// Seed of the least-squares search's restarts; assembly x draws from
+  /// RandomStream(optimum_seed).substream(<x as the program receives it, compact JSON>), so a
+  /// search does not depend on the workers or the order of the searches.
+  std::uint64_t optimum_seed = 2023;
+  /// m, the key points whose deviations r(x, u) the program answers when a request asks for
+  /// them (Q = ‖r‖ / √m; docs/external.md); 0 for a program that answers qualities only.
+  Index key_points = 0;
 
   static constexpr Index max_parts = 10000;
+  static constexpr Index max_key_points = 1000000;
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };
