@@ -138,18 +138,24 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
     Index global_evaluations, Index local_evaluations, Eigen::Ref<VectorX> optimum,
     double& quality) const {
   const ExternalTwinBackend& twin = *backend_;
-  // The search's start had no quality: the twin cannot evaluate this assembly's centre.
-  const auto unevaluable_start = [&](const NonFiniteError& error) {
-    return InvalidArgumentError(
-        "optimum", fmt::format("optimum: the twin answered no quality for assembly {} ({}); "
-                               "rule: the u0 search needs evaluable controls",
-                               assembly.dump(), error.what()));
+  // A batched search (trust region, least squares) to its summary's cost; its start without a
+  // quality means the twin cannot evaluate this assembly's centre.
+  const auto batched = [&](const auto& minimize) -> SearchCost {
+    try {
+      const auto found = minimize();
+      optimum = found.argmin;
+      quality = found.minimum;
+      return {found.evaluations, static_cast<std::uint64_t>(found.batches)};
+    } catch (const NonFiniteError& error) {
+      throw InvalidArgumentError(
+          "optimum", fmt::format("optimum: the twin answered no quality for assembly {} ({}); "
+                                 "rule: the u0 search needs evaluable controls",
+                                 assembly.dump(), error.what()));
+    }
   };
+  // A round's controls spread over the pool when this is the only search (a scanned assembly, a
+  // phase of one), else one request to this worker.
   if (budget_ > 0 && method_ == "trust_region") {
-    TrustRegionSearchOptions options;
-    options.evaluations = static_cast<std::uint64_t>(local_evaluations);
-    // A round's controls spread over the pool when this is the only search (a scanned
-    // assembly, a phase of one), else one request to this worker.
     const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
                                          Eigen::Ref<VectorX> qualities) {
       if (whole_pool) {
@@ -158,19 +164,12 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
         twin.worker_quality_batch(worker, assembly, controls, qualities);
       }
     };
-    TrustRegionSearchResult found;
-    try {
-      found = TrustRegionSearch(options).minimize(objective, start, lower_bounds(), upper_bounds());
-    } catch (const NonFiniteError& error) {
-      throw unevaluable_start(error);
-    }
-    optimum = found.argmin;
-    quality = found.minimum;
-    return {found.evaluations, static_cast<std::uint64_t>(found.batches)};
+    const TrustRegionSearch search(
+        TrustRegionSearchOptions{.evaluations = static_cast<std::uint64_t>(local_evaluations)});
+    return batched(
+        [&] { return search.minimize(objective, start, lower_bounds(), upper_bounds()); });
   }
   if (budget_ > 0 && method_ == "least_squares") {
-    LeastSquaresSearchOptions options;
-    options.evaluations = static_cast<std::uint64_t>(local_evaluations);
     const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
                                              Eigen::Ref<MatrixX> deviations) {
       if (whole_pool) {
@@ -179,17 +178,12 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
         twin.worker_deviations_batch(worker, assembly, controls, deviations);
       }
     };
-    LeastSquaresSearchResult found;
-    try {
-      found = LeastSquaresSearch(options).minimize(objective, twin.key_point_count(), start,
-                                                   lower_bounds(), upper_bounds(),
-                                                   RandomStream(seed_).substream(assembly.dump()));
-    } catch (const NonFiniteError& error) {
-      throw unevaluable_start(error);
-    }
-    optimum = found.argmin;
-    quality = found.minimum;
-    return {found.evaluations, static_cast<std::uint64_t>(found.batches)};
+    const LeastSquaresSearch search(
+        LeastSquaresSearchOptions{.evaluations = static_cast<std::uint64_t>(local_evaluations)});
+    return batched([&] {
+      return search.minimize(objective, twin.key_point_count(), start, lower_bounds(),
+                             upper_bounds(), RandomStream(seed_).substream(assembly.dump()));
+    });
   }
   NloptOptimizerOptions budgets;
   budgets.global_evaluations = static_cast<std::uint64_t>(global_evaluations);
