@@ -65,7 +65,7 @@ void ExternalTwinPool::quality_batch(const Assembly& assembly,
 void ExternalTwinPool::deviations_batch(const Assembly& assembly,
                                         const Eigen::Ref<const MatrixX>& controls,
                                         Eigen::Ref<MatrixX> out) const {
-  ExternalTwin::require_deviations(key_point_count());
+  require_key_points(key_point_count());
   require_deviations_batch(controls, out, control_dimension(), key_point_count());
   require_finite("controls", controls);
   spread(controls.cols(), [&](const ExternalTwin& worker, Index begin, Index count) {

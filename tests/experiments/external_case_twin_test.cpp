@@ -393,11 +393,11 @@ class FormulaBackend final : public ExternalTwinBackend {
   }
   void deviations_batch(const nlohmann::json&, const Eigen::Ref<const MatrixX>&,
                         Eigen::Ref<MatrixX>) const override {
-    ExternalTwin::require_deviations(key_point_count());
+    require_key_points(key_point_count());
   }
   void worker_deviations_batch(Index, const nlohmann::json&, const Eigen::Ref<const MatrixX>&,
                                Eigen::Ref<MatrixX>) const override {
-    ExternalTwin::require_deviations(key_point_count());
+    require_key_points(key_point_count());
   }
   void worker_quality_batch(Index worker, const nlohmann::json& assembly,
                             const Eigen::Ref<const MatrixX>& controls,

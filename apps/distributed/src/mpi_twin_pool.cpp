@@ -143,7 +143,7 @@ void MpiTwinPool::worker_quality_batch(Index worker, const json& assembly,
 
 void MpiTwinPool::deviations_batch(const json& assembly, const Eigen::Ref<const MatrixX>& controls,
                                    Eigen::Ref<MatrixX> out) const {
-  ExternalTwin::require_deviations(key_points_);
+  require_key_points(key_points_);
   require_deviations_batch(controls, out, control_dimension(), key_points_);
   spread(assembly, controls, /*deviations=*/true, out);
 }
@@ -151,7 +151,7 @@ void MpiTwinPool::deviations_batch(const json& assembly, const Eigen::Ref<const 
 void MpiTwinPool::worker_deviations_batch(Index worker, const json& assembly,
                                           const Eigen::Ref<const MatrixX>& controls,
                                           Eigen::Ref<MatrixX> out) const {
-  ExternalTwin::require_deviations(key_points_);
+  require_key_points(key_points_);
   require_deviations_batch(controls, out, control_dimension(), key_points_);
   ask_worker(worker, assembly, controls, /*deviations=*/true, out);
 }

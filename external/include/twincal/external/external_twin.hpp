@@ -114,6 +114,18 @@ struct ExternalTwinOptions {
   }
 };
 
+/// Refuses a deviations request to a twin of `key_points` = 0 (it answers qualities only), naming
+/// the setting that would allow it; every ExternalTwinBackend checks this before sending.
+/// @throws InvalidArgumentError.
+inline void require_key_points(Index key_points) {
+  if (key_points == 0) {
+    throw InvalidArgumentError(
+        "deviations",
+        "deviations: the twin answers qualities only; rule: set key_points (m, the "
+        "length of each control's deviations) to ask a twin for them");
+  }
+}
+
 class ExternalTwinError : public Error {
  public:
   ExternalTwinError(ExternalTwinFailure failure, std::string assembly, MatrixX controls,
@@ -221,7 +233,7 @@ class ExternalTwin {
   ///         ExternalTwinError on a failure.
   void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
                         Eigen::Ref<MatrixX> out) const {
-    require_deviations(key_point_count());
+    require_key_points(key_point_count());
     require_deviations_batch(controls, out, control_dimension(), key_point_count());
     require_finite("controls", controls);
     if (controls.cols() == 0) return;
@@ -229,17 +241,6 @@ class ExternalTwin {
              [&](const std::string& reply, std::uint64_t id) {
                return read_twin_deviations_reply(reply, id, options_.max_quality, out);
              });
-  }
-
-  /// Refuses deviations from a twin of `key_points` = 0, naming the setting that would allow them.
-  /// @throws InvalidArgumentError.
-  static void require_deviations(Index key_points) {
-    if (key_points == 0) {
-      throw InvalidArgumentError(
-          "deviations",
-          "deviations: the twin answers qualities only; rule: set key_points (m, "
-          "the length of each control's deviations) to ask a twin for them");
-    }
   }
 
   /// Q(x, u): one request with one control.
