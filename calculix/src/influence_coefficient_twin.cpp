@@ -133,7 +133,8 @@ void InfluenceCoefficientTwin::qualities_from(const VectorX& y0,
                                               Eigen::Ref<VectorX> out) const {
   require_dimension("controls (rows)", controls.rows(), control_dimension());
   require_dimension("out", out.size(), controls.cols());
-  const MatrixX y = (influence_ * controls).colwise() + y0;
+  MatrixX y(y0.size(), controls.cols());
+  deviations_from(y0, controls, y);
   out = y.colwise().norm().transpose() / std::sqrt(static_cast<double>(y0.size()));
 }
 

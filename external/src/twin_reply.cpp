@@ -86,6 +86,66 @@ std::optional<TwinReplyFault> read_qualities(const nlohmann::json& found, std::s
   return std::nullopt;
 }
 
+// Control j's entry of a "deviations" array into column j of `deviations` (m rows): m numbers
+// in ±max_quality, or null for a NaN column.
+std::optional<TwinReplyFault> read_deviation_column(const nlohmann::json& column, Index j,
+                                                    std::string_view line, double max_quality,
+                                                    Eigen::Ref<MatrixX> deviations) {
+  const Index m = deviations.rows();
+  if (column.is_null()) {
+    deviations.col(j).setConstant(std::numeric_limits<double>::quiet_NaN());
+    return std::nullopt;
+  }
+  if (!column.is_array()) {
+    return malformed(fmt::format("the deviations of control {} are not an array or null", j), line);
+  }
+  if (static_cast<Index>(column.size()) != m) {
+    return TwinReplyFault{ExternalTwinFailure::wrong_count,
+                          fmt::format("control {} has {} deviations; rule: must have {}, one per "
+                                      "key point (key_points)",
+                                      j, column.size(), m)};
+  }
+  for (Index i = 0; i < m; ++i) {
+    const nlohmann::json& r = column[static_cast<std::size_t>(i)];
+    if (!r.is_number()) {
+      return malformed(fmt::format("deviation {} of control {} is not a number", i, j), line);
+    }
+    deviations(i, j) = r.get<double>();
+    if (!(std::abs(deviations(i, j)) <= max_quality)) {
+      return TwinReplyFault{ExternalTwinFailure::implausible_quality,
+                            fmt::format("deviation {} of control {} is {}; rule: a deviation lies "
+                                        "in [-max_quality, max_quality] = ±{} mm",
+                                        i, j, quoted(r), max_quality)};
+    }
+  }
+  return std::nullopt;
+}
+
+// The qualities a reply states beside its deviations: each the RMS of its column, to a relative
+// 1e-6, null where the column is.
+std::optional<TwinReplyFault> check_stated_qualities(const nlohmann::json& stated,
+                                                     std::string_view line, double max_quality,
+                                                     const Eigen::Ref<const MatrixX>& deviations) {
+  if (!stated.is_array()) return malformed("the reply's \"qualities\" is not an array", line);
+  VectorX qualities(deviations.cols());
+  if (auto fault = read_qualities(stated, line, max_quality, qualities)) return fault;
+  for (Index j = 0; j < deviations.cols(); ++j) {
+    const double rms = deviations.col(j).norm() / std::sqrt(static_cast<double>(deviations.rows()));
+    const bool agree = std::isnan(rms) ? std::isnan(qualities(j))
+                                       : std::abs(qualities(j) - rms) <= 1e-6 * rms + 1e-12;
+    if (!agree) {
+      return TwinReplyFault{
+          ExternalTwinFailure::implausible_quality,
+          fmt::format("quality {} is {} but {}; rule: a quality sent with deviations is their RMS "
+                      "to a relative 1e-6, null for null deviations",
+                      j, std::isnan(qualities(j)) ? "null" : fmt::format("{}", qualities(j)),
+                      std::isnan(rms) ? "its deviations are null"
+                                      : fmt::format("its deviations' RMS is {}", rms))};
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<TwinReplyFault> read_twin_reply(std::string_view line, std::uint64_t id,
@@ -110,65 +170,21 @@ std::optional<TwinReplyFault> read_twin_deviations_reply(std::string_view line, 
   if (found == reply.end() || !found->is_array()) {
     return malformed("the reply has no \"deviations\" array (the request asked for them)", line);
   }
-  const Index m = deviations.rows();
-  const Index k = deviations.cols();
-  if (static_cast<Index>(found->size()) != k) {
+  if (static_cast<Index>(found->size()) != deviations.cols()) {
     return TwinReplyFault{ExternalTwinFailure::wrong_count,
                           fmt::format("the reply has {} arrays of deviations; rule: must have {}, "
                                       "one per control",
-                                      found->size(), k)};
+                                      found->size(), deviations.cols())};
   }
-  for (Index j = 0; j < k; ++j) {
-    const nlohmann::json& column = (*found)[static_cast<std::size_t>(j)];
-    if (column.is_null()) {
-      deviations.col(j).setConstant(std::numeric_limits<double>::quiet_NaN());
-      continue;
-    }
-    if (!column.is_array()) {
-      return malformed(fmt::format("the deviations of control {} are not an array or null", j),
-                       line);
-    }
-    if (static_cast<Index>(column.size()) != m) {
-      return TwinReplyFault{ExternalTwinFailure::wrong_count,
-                            fmt::format("control {} has {} deviations; rule: must have {}, one "
-                                        "per key point (key_points)",
-                                        j, column.size(), m)};
-    }
-    for (Index i = 0; i < m; ++i) {
-      const nlohmann::json& r = column[static_cast<std::size_t>(i)];
-      if (!r.is_number()) {
-        return malformed(fmt::format("deviation {} of control {} is not a number", i, j), line);
-      }
-      deviations(i, j) = r.get<double>();
-      if (!(std::abs(deviations(i, j)) <= max_quality)) {
-        return TwinReplyFault{
-            ExternalTwinFailure::implausible_quality,
-            fmt::format("deviation {} of control {} is {}; rule: a deviation lies in "
-                        "[-max_quality, max_quality] = ±{} mm",
-                        i, j, quoted(r), max_quality)};
-      }
+  for (Index j = 0; j < deviations.cols(); ++j) {
+    if (auto fault = read_deviation_column((*found)[static_cast<std::size_t>(j)], j, line,
+                                           max_quality, deviations)) {
+      return fault;
     }
   }
   const auto stated = reply.find("qualities");
   if (stated == reply.end()) return std::nullopt;
-  if (!stated->is_array()) return malformed("the reply's \"qualities\" is not an array", line);
-  VectorX qualities(k);
-  if (auto fault = read_qualities(*stated, line, max_quality, qualities)) return fault;
-  for (Index j = 0; j < k; ++j) {
-    const double rms = deviations.col(j).norm() / std::sqrt(static_cast<double>(m));
-    const bool agree = std::isnan(rms) ? std::isnan(qualities(j))
-                                       : std::abs(qualities(j) - rms) <= 1e-6 * rms + 1e-12;
-    if (!agree) {
-      return TwinReplyFault{
-          ExternalTwinFailure::implausible_quality,
-          fmt::format("quality {} is {} but {}; rule: a quality sent with deviations is their RMS "
-                      "to a relative 1e-6, null for null deviations",
-                      j, std::isnan(qualities(j)) ? "null" : fmt::format("{}", qualities(j)),
-                      std::isnan(rms) ? "its deviations are null"
-                                      : fmt::format("its deviations' RMS is {}", rms))};
-    }
-  }
-  return std::nullopt;
+  return check_stated_qualities(*stated, line, max_quality, deviations);
 }
 
 }  // namespace twincal

@@ -32,6 +32,105 @@
 #include "twincal/experiments/experiment_choices.hpp"
 #include "twincal/experiments/twin_cases.hpp"
 
+namespace {
+
+using namespace twincal;
+
+// One budgeted search of every assembly of `twin` with `method`, in AdditiveWarmStart's phases,
+// each compared with the twin's reference z*; prints the summary line (and with `list` each
+// assembly first).
+void search_every_assembly(const AnyTwin& twin, const std::string& which, const std::string& method,
+                           double factor, std::uint64_t seed, bool list) {
+  const Index d = twin.control_dimension();
+  const auto budget = static_cast<std::uint64_t>(factor * static_cast<double>((d + 1) * (d + 1)));
+  std::vector<AssemblyId> order = twin.assemblies();
+  std::stable_sort(order.begin(), order.end(), [](const AssemblyId& a, const AssemblyId& b) {
+    return AdditiveWarmStart::phase(a) < AdditiveWarmStart::phase(b);
+  });
+  AdditiveWarmStart warm(twin.lower_bounds(), twin.upper_bounds());
+  const VectorX centre = 0.5 * (twin.lower_bounds() + twin.upper_bounds());
+  const RandomStream restarts = RandomStream(seed).substream("least_squares");
+  std::vector<double> gaps;
+  std::uint64_t evaluations = 0;
+  std::uint64_t requests = 0;
+  // Of the assemblies beyond 1 %, those whose search converged (the trust region's radius
+  // collapsed at a local minimum or a kink it could not cross; least squares' last local search
+  // converged and too little budget was left for another) rather than spending its budget.
+  long converged_misses = 0;
+  for (const AssemblyId& assembly : order) {
+    const std::uint64_t allowed = AdditiveWarmStart::phase(assembly) == 0 ? 2 * budget : budget;
+    const VectorX start = warm.start(assembly, centre);
+    const double reference = twin.optimal_quality(assembly);
+    IndividualControl found;
+    bool converged = false;  // trust_region and least_squares
+    if (method == "bobyqa") {
+      NloptOptimizerOptions options;
+      options.global_evaluations = 0;
+      options.local_evaluations = allowed;
+      found = IndividualOptimum<AnyTwin>(twin, NloptOptimizer(options)).optimize(assembly, start);
+      requests += found.evaluations;
+    } else if (method == "least_squares") {
+      const LeastSquaresSearch search({.evaluations = allowed});
+      const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
+                                               Eigen::Ref<MatrixX> deviations) {
+        twin.deviations_batch(assembly, controls, deviations);
+      };
+      const LeastSquaresSearchResult result = search.minimize(
+          objective, twin.key_point_count(), start, twin.lower_bounds(), twin.upper_bounds(),
+          restarts.substream(fmt::format("{} {}", assembly.upper, assembly.lower)));
+      found = {result.argmin, result.minimum, result.evaluations};
+      requests += static_cast<std::uint64_t>(result.batches);
+      converged = result.status == LeastSquaresStatus::converged;
+    } else {
+      const TrustRegionSearch search({.evaluations = allowed});
+      const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
+                                           Eigen::Ref<VectorX> qualities) {
+        twin.quality_batch(assembly, controls, qualities);
+      };
+      const TrustRegionSearchResult result =
+          search.minimize(objective, start, twin.lower_bounds(), twin.upper_bounds());
+      found = {result.argmin, result.minimum, result.evaluations};
+      requests += static_cast<std::uint64_t>(result.batches);
+      converged = result.status == TrustRegionStatus::converged;
+    }
+    warm.record(assembly, found.control);
+    evaluations += found.evaluations;
+    const double gap = (found.quality - reference) / reference;
+    if (gap > 0.01 && converged) ++converged_misses;
+    gaps.push_back(gap);
+    if (list) {
+      std::printf("assembly %ld %ld: %.12g (reference %.12g, gap %.3e), %llu evaluations\n",
+                  static_cast<long>(assembly.upper), static_cast<long>(assembly.lower),
+                  found.quality, reference, gap,
+                  static_cast<unsigned long long>(found.evaluations));
+    }
+  }
+  std::sort(gaps.begin(), gaps.end());
+  const std::size_t n = gaps.size();
+  const auto within = std::count_if(gaps.begin(), gaps.end(), [](double g) { return g <= 0.01; });
+  // Assemblies where the budgeted search beat the reference by more than 1 %: where that is the
+  // full search, it missed a better basin.
+  const auto beyond = std::count_if(gaps.begin(), gaps.end(), [](double g) { return g < -0.01; });
+  std::printf(
+      "%s %s d=%ld seed=%llu budget=%llu: mean evaluations per assembly %.1f in %.1f requests "
+      "(4(d+1)^2 = %ld); "
+      "relative gap to z*: median %.2e, 90th percentile %.2e, max %.2e, min %.2e; within 1 %%: "
+      "%ld/%zu; more than 1 %% below z*: %ld",
+      which.c_str(), method.c_str(), static_cast<long>(d), static_cast<unsigned long long>(seed),
+      static_cast<unsigned long long>(budget), static_cast<double>(evaluations) / double(n),
+      static_cast<double>(requests) / double(n), static_cast<long>(4 * (d + 1) * (d + 1)),
+      gaps[n / 2], gaps[n * 9 / 10], gaps.back(), gaps.front(), static_cast<long>(within), n,
+      static_cast<long>(beyond));
+  if (method != "bobyqa") {
+    std::printf(" (of the %ld beyond 1 %%, %ld converged, %ld spent the budget)",
+                static_cast<long>(n) - static_cast<long>(within), converged_misses,
+                static_cast<long>(n) - static_cast<long>(within) - converged_misses);
+  }
+  std::printf("\n");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace twincal;
   if (argc < 2) {
@@ -42,12 +141,9 @@ int main(int argc, char** argv) {
   }
   try {
     const std::string which = argv[1];
-    const bool from_file = which.ends_with(".json");
     ExperimentConfig config;
-    if (from_file) config = read_config_file(which).get<ExperimentConfig>();
-    config.twin_seed = argc > 4 ? std::stoull(argv[4]) : 2023;
-    if (from_file) {
-      // The config names its twin.
+    if (which.ends_with(".json")) {
+      config = read_config_file(which).get<ExperimentConfig>();  // the config names its twin
     } else if (which == "analytic" || which == "contact" || which == "stiffening" ||
                which == "kink") {
       config.twin_case = TwinCase::analytic;
@@ -56,6 +152,7 @@ int main(int argc, char** argv) {
     } else {
       config.twin_case = parse_enum<TwinCase>(which, "CASE");
     }
+    config.twin_seed = argc > 4 ? std::stoull(argv[4]) : 2023;
     const double factor = argc > 3 ? std::stod(argv[3]) : 1.0;
     // One method or several, comma-separated: each runs on the same twin, whose reference is
     // computed once (a config's external twin may take hours for it).
@@ -80,98 +177,7 @@ int main(int argc, char** argv) {
                                              "its key points' deviations");
     }
     for (const std::string& method : methods) {
-      const Index d = twin.control_dimension();
-      const auto budget =
-          static_cast<std::uint64_t>(factor * static_cast<double>((d + 1) * (d + 1)));
-      std::vector<AssemblyId> order = twin.assemblies();
-      std::stable_sort(order.begin(), order.end(), [](const AssemblyId& a, const AssemblyId& b) {
-        return AdditiveWarmStart::phase(a) < AdditiveWarmStart::phase(b);
-      });
-      AdditiveWarmStart warm(twin.lower_bounds(), twin.upper_bounds());
-      const VectorX centre = 0.5 * (twin.lower_bounds() + twin.upper_bounds());
-      const RandomStream restarts = RandomStream(config.twin_seed).substream("least_squares");
-      std::vector<double> gaps;
-      std::uint64_t evaluations = 0;
-      std::uint64_t requests = 0;
-      // Of the assemblies beyond 1 %, those whose search converged (the trust region's radius
-      // collapsed at a local minimum or a kink it could not cross; least squares' last local
-      // search converged and too little budget was left for another) rather than spending its
-      // budget.
-      long converged_misses = 0;
-      for (const AssemblyId& assembly : order) {
-        const std::uint64_t allowed = AdditiveWarmStart::phase(assembly) == 0 ? 2 * budget : budget;
-        const VectorX start = warm.start(assembly, centre);
-        const double reference = twin.optimal_quality(assembly);
-        IndividualControl found;
-        bool converged = false;  // trust_region and least_squares
-        if (method == "bobyqa") {
-          NloptOptimizerOptions options;
-          options.global_evaluations = 0;
-          options.local_evaluations = allowed;
-          found =
-              IndividualOptimum<AnyTwin>(twin, NloptOptimizer(options)).optimize(assembly, start);
-          requests += found.evaluations;
-        } else if (method == "least_squares") {
-          const LeastSquaresSearch search({.evaluations = allowed});
-          const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
-                                                   Eigen::Ref<MatrixX> deviations) {
-            twin.deviations_batch(assembly, controls, deviations);
-          };
-          const LeastSquaresSearchResult result = search.minimize(
-              objective, twin.key_point_count(), start, twin.lower_bounds(), twin.upper_bounds(),
-              restarts.substream(fmt::format("{} {}", assembly.upper, assembly.lower)));
-          found = {result.argmin, result.minimum, result.evaluations};
-          requests += static_cast<std::uint64_t>(result.batches);
-          converged = result.status == LeastSquaresStatus::converged;
-        } else {
-          const TrustRegionSearch search({.evaluations = allowed});
-          const BatchObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
-                                               Eigen::Ref<VectorX> qualities) {
-            twin.quality_batch(assembly, controls, qualities);
-          };
-          const TrustRegionSearchResult result =
-              search.minimize(objective, start, twin.lower_bounds(), twin.upper_bounds());
-          found = {result.argmin, result.minimum, result.evaluations};
-          requests += static_cast<std::uint64_t>(result.batches);
-          converged = result.status == TrustRegionStatus::converged;
-        }
-        warm.record(assembly, found.control);
-        evaluations += found.evaluations;
-        const double gap = (found.quality - reference) / reference;
-        if (gap > 0.01 && converged) ++converged_misses;
-        gaps.push_back(gap);
-        if (list) {
-          std::printf("assembly %ld %ld: %.12g (reference %.12g, gap %.3e), %llu evaluations\n",
-                      static_cast<long>(assembly.upper), static_cast<long>(assembly.lower),
-                      found.quality, reference, gap,
-                      static_cast<unsigned long long>(found.evaluations));
-        }
-      }
-      std::sort(gaps.begin(), gaps.end());
-      const std::size_t n = gaps.size();
-      const auto within =
-          std::count_if(gaps.begin(), gaps.end(), [](double g) { return g <= 0.01; });
-      // Assemblies where the budgeted search beat the reference by more than 1 %: where that is
-      // the full search, it missed a better basin.
-      const auto beyond =
-          std::count_if(gaps.begin(), gaps.end(), [](double g) { return g < -0.01; });
-      std::printf(
-          "%s %s d=%ld seed=%llu budget=%llu: mean evaluations per assembly %.1f in %.1f requests "
-          "(4(d+1)^2 = %ld); "
-          "relative gap to z*: median %.2e, 90th percentile %.2e, max %.2e, min %.2e; within 1 %%: "
-          "%ld/%zu; more than 1 %% below z*: %ld",
-          which.c_str(), method.c_str(), static_cast<long>(d),
-          static_cast<unsigned long long>(config.twin_seed),
-          static_cast<unsigned long long>(budget), static_cast<double>(evaluations) / double(n),
-          static_cast<double>(requests) / double(n), static_cast<long>(4 * (d + 1) * (d + 1)),
-          gaps[n / 2], gaps[n * 9 / 10], gaps.back(), gaps.front(), static_cast<long>(within), n,
-          static_cast<long>(beyond));
-      if (method != "bobyqa") {
-        std::printf(" (of the %ld beyond 1 %%, %ld converged, %ld spent the budget)",
-                    static_cast<long>(n) - static_cast<long>(within), converged_misses,
-                    static_cast<long>(n) - static_cast<long>(within) - converged_misses);
-      }
-      std::printf("\n");
+      search_every_assembly(twin, which, method, factor, config.twin_seed, list);
     }
   } catch (const std::exception& error) {
     std::fprintf(stderr, "twincal_budgeted_optimum: %s\n", error.what());

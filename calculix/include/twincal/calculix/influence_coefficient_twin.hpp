@@ -73,7 +73,7 @@ class InfluenceCoefficientTwin {
   // deviations to the bit.
   void deviations_from(const VectorX& y0, const Eigen::Ref<const MatrixX>& controls,
                        Eigen::Ref<MatrixX> out) const;
-  // Q = ‖y0 + B u‖/√m for every column u of `controls`.
+  // Q = ‖y0 + B u‖/√m for every column u of `controls`: the RMS of deviations_from's columns.
   void qualities_from(const VectorX& y0, const Eigen::Ref<const MatrixX>& controls,
                       Eigen::Ref<VectorX> out) const;
 
