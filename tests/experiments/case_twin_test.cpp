@@ -6,7 +6,9 @@
 #include "twincal/core/error.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/experiments/scanned_assembly.hpp"
+#include "twincal/models/key_point_twin.hpp"
 #include "twincal/models/locator_subset.hpp"
+#include "twincal/models/no_nonlinearity.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
 
 namespace twincal {
@@ -55,6 +57,38 @@ TEST(CaseTwin, CountsEvaluationsButNotThePlants) {
   twin.quality_batch({1, 1}, Eigen::MatrixXd::Zero(1, 4), out);
   (void)twin.plant_quality({1, 1}, u);
   EXPECT_EQ(CaseTwin::evaluations_on_this_thread() - before, 5U);
+}
+
+// The deviations at the controlled locators, the others at u0(x), as the full twin gives them
+// for the embedded control; counted as Q-evaluations. A twin that answers only Q has none.
+TEST(CaseTwin, AnswersTheKeyPointsDeviationsOfItsFullTwin) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 4;
+  const KeyPointTwin<NoNonlinearity> full(options, RandomStream(3));
+  const CaseTwin twin(AnyTwin(full, full.assemblies(), {0, 1, 2, 3}), {2, 0});
+  ASSERT_EQ(twin.key_point_count(), full.key_point_count());
+  const AssemblyId x{2, 5};
+  Eigen::MatrixXd controls(2, 3);
+  controls << 0.1, -0.2, 0.05, 0.3, 0.0, -0.15;
+  Eigen::MatrixXd deviations(full.key_point_count(), 3);
+  const std::uint64_t before = CaseTwin::evaluations_on_this_thread();
+  twin.deviations_batch(x, controls, deviations);
+  EXPECT_EQ(CaseTwin::evaluations_on_this_thread() - before, 3U);
+  Eigen::MatrixXd embedded = full.optimum(x).replicate(1, 3);
+  embedded.row(2) = controls.row(0);
+  embedded.row(0) = controls.row(1);
+  Eigen::MatrixXd expected(full.key_point_count(), 3);
+  full.deviations_batch(x, embedded, expected);
+  EXPECT_EQ(deviations, expected);
+  Eigen::MatrixXd wrong(full.key_point_count() + 1, 3);
+  EXPECT_THROW(twin.deviations_batch(x, controls, wrong), DimensionMismatchError);
+
+  const RmsQuadraticTwin quality_only = case_twin_reference(3);
+  const CaseTwin without(case_twin_erased(quality_only), {1});
+  EXPECT_EQ(without.key_point_count(), 0);
+  Eigen::MatrixXd none(0, 1);
+  EXPECT_THROW(without.deviations_batch({0, 0}, Eigen::MatrixXd::Zero(1, 1), none),
+               InvalidArgumentError);
 }
 
 TEST(CaseTwin, RejectsBadLocatorsAndUnknownAssemblies) {

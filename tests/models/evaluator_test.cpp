@@ -24,7 +24,8 @@ using ::testing::HasSubstr;
 //   ≥ 0: Q = assembly + Σ_i (i + 1) u_i (distinct per column, order-sensitive)
 //   −1: throws std::runtime_error;  −2: NaN for columns with u_0 > 0;  −3: +∞ likewise;
 //   −4: sleeps `sleep` per call, then behaves like 0.
-// It counts its calls and the controls it evaluated.
+// It counts its calls and the controls it evaluated. Its three "deviations" are (Q, u_0, u_1)
+// with the same behaviours (−2: a NaN u_0 entry), a pattern to check the passing on, not an RMS.
 struct ScriptedTwin {
   using Assembly = int;
   std::vector<std::string> names{"A", "B"};
@@ -59,8 +60,19 @@ struct ScriptedTwin {
       if (controls(0, j) > 0.0 && assembly == -3) out(j) = std::numeric_limits<double>::infinity();
     }
   }
+  [[nodiscard]] Index key_point_count() const { return 3; }
+  void deviations_batch(int assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const {
+    VectorX values(controls.cols());
+    quality_batch(assembly, controls, values);
+    out.row(0) = values.transpose();
+    out.bottomRows(2) = controls;
+    for (Index j = 0; j < controls.cols(); ++j) {
+      if (controls(0, j) > 0.0 && assembly == -2) out(1, j) = std::nan("");
+    }
+  }
 };
-static_assert(Twin<ScriptedTwin>);
+static_assert(TwinWithDeviations<ScriptedTwin>);
 
 MatrixX random_controls(Index k, std::uint64_t seed) {
   MatrixX controls(2, k);
@@ -189,6 +201,34 @@ TYPED_TEST(EvaluatorTest, NonFiniteQualitiesAreReportedWithTheirControl) {
   const int before = this->twin_.evaluated.load();
   EXPECT_THROW(evaluator.quality_batch(-3, controls, out), EvaluationError);
   EXPECT_GT(this->twin_.evaluated.load(), before);
+}
+
+// The deviations are passed on in input order, counted like qualities, and checked: a twin
+// that throws or a non-finite deviation is a TwinEvaluationError naming the failure.
+TYPED_TEST(EvaluatorTest, PassesTheDeviationsOnCountedAndChecked) {
+  const Evaluator<ScriptedTwin, TypeParam> evaluator(this->twin_, make_execution<TypeParam>());
+  ASSERT_EQ(evaluator.key_point_count(), 3);
+  const MatrixX controls = random_controls(7, 4);
+  MatrixX out(3, 7);
+  evaluator.deviations_batch(2, controls, out);
+  for (Index j = 0; j < 7; ++j) {
+    EXPECT_EQ(out(0, j), ScriptedTwin::value(2, controls.col(j)));
+    EXPECT_EQ(out.col(j).tail(2), controls.col(j));
+  }
+  EXPECT_EQ(evaluator.stats().evaluations, 7U);
+  EXPECT_EQ(evaluator.stats().calls, 1U);
+  MatrixX wrong(2, 7);
+  EXPECT_THROW(evaluator.deviations_batch(2, controls, wrong), DimensionMismatchError);
+  EXPECT_THROW(evaluator.deviations_batch(-1, controls, out), TwinEvaluationError<int>);
+  MatrixX signs = MatrixX::Constant(2, 3, -0.5);
+  signs(0, 2) = 0.5;
+  try {
+    evaluator.deviations_batch(-2, signs, out.leftCols(3));
+    FAIL() << "a NaN deviation was passed on";
+  } catch (const TwinEvaluationError<int>& error) {
+    EXPECT_EQ(error.failure(), EvaluationFailure::non_finite);
+    EXPECT_THAT(error.what(), HasSubstr("a deviation is not finite"));
+  }
 }
 
 TYPED_TEST(EvaluatorTest, ASlowTwinExceedsTheTimeLimit) {

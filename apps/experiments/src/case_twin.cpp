@@ -193,6 +193,17 @@ void CaseTwin::quality_batch(const AssemblyId& assembly, const Eigen::Ref<const 
   thread_evaluations += static_cast<std::uint64_t>(controls.cols());
 }
 
+void CaseTwin::deviations_batch(const AssemblyId& assembly,
+                                const Eigen::Ref<const MatrixX>& controls,
+                                Eigen::Ref<MatrixX> out) const {
+  require_deviations_batch(controls, out, control_dimension(), key_point_count());
+  Eigen::Block<MatrixX, Dynamic, Dynamic, true> full =
+      full_controls(twin_.control_dimension(), controls.cols());
+  embed(position(assembly), controls, full);
+  twin_.deviations_batch(assembly, full, out);
+  thread_evaluations += static_cast<std::uint64_t>(controls.cols());
+}
+
 std::uint64_t CaseTwin::evaluations_on_this_thread() noexcept { return thread_evaluations; }
 
 double median_quadratic_departure(const CaseTwin& twin, Index assemblies) {

@@ -1,8 +1,13 @@
 #include "twincal/controllers/active/quadratic_surrogate.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "../controller_fixture.hpp"
+#include "twincal/models/key_point_twin.hpp"
+#include "twincal/models/no_nonlinearity.hpp"
 #include "twincal/models/rugged_twin.hpp"
 
 namespace twincal {
@@ -74,6 +79,153 @@ TEST(QuadraticSurrogate, ItsCheckRejectsATwinThatIsNotQuadratic) {
   const MatrixX points = twin.optimum(x).replicate(1, 2) + MatrixX::Constant(3, 2, 0.23);
   static_cast<void>(surrogate.check(x, model, points, error));
   EXPECT_GT(error, surrogate.options().tolerance);
+}
+
+// A four-locator key-point twin without a nonlinearity: r(u) affine, so Q² = ‖r‖²/m is a
+// quadratic, and the Gauss–Newton model of its deviations is exact.
+KeyPointTwin<NoNonlinearity> affine_key_points() {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 4;
+  options.key_points = 12;
+  return KeyPointTwin<NoNonlinearity>(options, RandomStream(5));
+}
+
+TEST(QuadraticSurrogateFromDeviations, FitsTheModelOfAQuadraticFitIn2DPlusOneEvaluations) {
+  const KeyPointTwin<NoNonlinearity> twin = affine_key_points();
+  QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, 4> deviations(twin);
+  QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, 4> squares(
+      twin, QuadraticSurrogateOptions{.from_deviations = false});
+  ASSERT_TRUE(deviations.uses_deviations());
+  ASSERT_FALSE(squares.uses_deviations());
+  const AssemblyId x{2, 3};
+  const Vector<4> center = Vector<4>(twin.optimum(x)) + Vector<4>(0.1, -0.2, 0.05, 0.3);
+  QuadraticModel<4> from_deviations;
+  QuadraticModel<4> from_squares;
+  EXPECT_EQ(deviations.fit(x, center, from_deviations), 9U);  // 2d + 1
+  EXPECT_EQ(squares.fit(x, center, from_squares), 15U);       // (d + 1)(d + 2)/2
+  EXPECT_LT((from_deviations.hessian - from_squares.hessian).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((from_deviations.half_gradient - from_squares.half_gradient).cwiseAbs().maxCoeff(),
+            1e-9);
+  const double q = twin.quality(x, center);
+  EXPECT_NEAR(from_deviations.value, q * q, 1e-12);
+  EXPECT_EQ(from_deviations.hessian, from_deviations.hessian.transpose());
+  EXPECT_EQ(deviations.full_fit_evaluations(), 9);
+  EXPECT_EQ(deviations.refit_evaluations(), 9);
+
+  // The next assembly keeps J: r at v0 alone, same exactness; after hessian_refresh
+  // assemblies a full fit again.
+  EXPECT_FALSE(deviations.hessian_stale());
+  EXPECT_EQ(deviations.gradient_fit_evaluations(), 1);
+  const AssemblyId y{0, 1};
+  const Vector<4> other = Vector<4>(twin.optimum(y)) + Vector<4>(-0.3, 0.1, 0.2, 0.0);
+  QuadraticModel<4> kept;
+  EXPECT_EQ(deviations.fit(y, other, kept), 1U);
+  EXPECT_EQ(kept.hessian, from_deviations.hessian);
+  const double q_other = twin.quality(y, other);
+  EXPECT_NEAR(kept.value, q_other * q_other, 1e-12);
+  double error = 1.0;
+  const MatrixX points = other.replicate(1, 3) + MatrixX::Random(4, 3) * 0.5;
+  EXPECT_EQ(deviations.check(y, kept, points, error), 3U);
+  EXPECT_LT(error, 1e-10);
+  for (Index k = 2; k < deviations.options().hessian_refresh; ++k) {
+    EXPECT_EQ(deviations.fit(y, other, kept), 1U) << k;
+  }
+  EXPECT_TRUE(deviations.hessian_stale());
+  EXPECT_EQ(deviations.fit(y, other, kept), 9U);
+  deviations.invalidate_hessian();
+  EXPECT_EQ(deviations.fit(y, other, kept), 9U);
+}
+
+// A snapshot keeps J: the restored surrogate fits the next assembly as the original does; a
+// snapshot without J (saved from Q²) or with a bad one is refused, naming the field.
+TEST(QuadraticSurrogateFromDeviations, ASnapshotKeepsTheJacobian) {
+  const KeyPointTwin<NoNonlinearity> twin = affine_key_points();
+  QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, Dynamic> original(twin);
+  QuadraticModel<Dynamic> model;
+  const AssemblyId x{1, 2};
+  static_cast<void>(original.fit(x, twin.optimum(x), model));
+  const nlohmann::json saved = nlohmann::json::parse(original.save().dump());
+  ASSERT_TRUE(saved.contains("jacobian"));
+  QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, Dynamic> restored(twin);
+  restored.restore(saved);
+  const VectorX center = twin.optimum(x) + VectorX::Constant(4, 0.1);
+  QuadraticModel<Dynamic> expected;
+  QuadraticModel<Dynamic> actual;
+  EXPECT_EQ(original.fit(x, center, expected), 1U);
+  EXPECT_EQ(restored.fit(x, center, actual), 1U);
+  EXPECT_EQ(actual.value, expected.value);
+  EXPECT_EQ(actual.half_gradient, expected.half_gradient);
+  EXPECT_EQ(actual.hessian, expected.hessian);
+
+  QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, Dynamic> squares(
+      twin, QuadraticSurrogateOptions{.from_deviations = false});
+  static_cast<void>(squares.fit(x, twin.optimum(x), model));
+  EXPECT_FALSE(squares.save().contains("jacobian"));
+  const nlohmann::json kept = restored.save();
+  EXPECT_THAT([&] { restored.restore(squares.save()); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(::testing::HasSubstr("jacobian")));
+  nlohmann::json bad = saved;
+  bad["jacobian"][0][0] = "x";
+  EXPECT_THAT([&] { restored.restore(bad); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(::testing::HasSubstr("jacobian[0]")));
+  EXPECT_EQ(restored.save(), kept);
+}
+
+// A refit from the deviations fits H where the entry is now used; the H it is given (the
+// entry's old one) is not used.
+TEST(QuadraticSurrogateFromDeviations, RefitsItsOwnHessian) {
+  const KeyPointTwin<NoNonlinearity> twin = affine_key_points();
+  QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, Dynamic> surrogate(twin);
+  const AssemblyId x{1, 1};
+  QuadraticModel<Dynamic> own;
+  static_cast<void>(surrogate.fit(x, twin.optimum(x), own));
+  const nlohmann::json before = surrogate.save();
+  QuadraticModel<Dynamic> refitted;
+  const VectorX center = twin.optimum(x) + VectorX::LinSpaced(4, -0.2, 0.3);
+  EXPECT_EQ(surrogate.refit_gradient(x, center, MatrixX::Identity(4, 4), refitted), 9U);
+  EXPECT_EQ(surrogate.save(), before);  // its own J, H and age are untouched
+  EXPECT_LT((refitted.hessian - own.hessian).cwiseAbs().maxCoeff(), 1e-9);
+  const VectorX gradient = own.hessian * (center - twin.optimum(x));  // ∇Q²/2 of a quadratic
+  EXPECT_LT((refitted.half_gradient - gradient).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_THROW(
+      static_cast<void>(surrogate.refit_gradient(x, center, MatrixX::Identity(3, 3), refitted)),
+      DimensionMismatchError);
+}
+
+// The key-point twin with one deviation that is NaN at the last control of every batch.
+class NanDeviationTwin : public KeyPointTwin<NoNonlinearity> {
+ public:
+  explicit NanDeviationTwin(KeyPointTwin<NoNonlinearity> twin)
+      : KeyPointTwin<NoNonlinearity>(std::move(twin)) {}
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const {
+    KeyPointTwin<NoNonlinearity>::deviations_batch(assembly, controls, out);
+    out(3, controls.cols() - 1) = std::numeric_limits<double>::quiet_NaN();
+  }
+};
+
+TEST(QuadraticSurrogateFromDeviations, RefusesANonFiniteDeviationAndKeepsItsState) {
+  const NanDeviationTwin twin(affine_key_points());
+  QuadraticSurrogate<NanDeviationTwin, 4> surrogate(twin);
+  ASSERT_TRUE(surrogate.uses_deviations());
+  const nlohmann::json before = surrogate.save();
+  QuadraticModel<4> model;
+  try {
+    static_cast<void>(surrogate.fit(AssemblyId{0, 0}, Vector<4>::Zero(), model));
+    FAIL() << "expected NonFiniteError";
+  } catch (const NonFiniteError& error) {
+    EXPECT_NE(std::string(error.what()).find("column 8"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(surrogate.save(), before);
+}
+
+// A twin that answers only Q (the RMS-quadratic analytic twin) is fitted from Q².
+TEST(QuadraticSurrogateFromDeviations, FitsFromTheQualityWhereTheTwinHasNoKeyPoints) {
+  const test_support::AnalyticTwin twin = test_support::make_twin(4);
+  QuadraticSurrogate<test_support::AnalyticTwin, Dynamic> surrogate(twin);
+  EXPECT_FALSE(surrogate.uses_deviations());
+  QuadraticModel<Dynamic> model;
+  EXPECT_EQ(surrogate.fit(AssemblyId{0, 0}, twin.optimum(AssemblyId{0, 0}), model), 15U);
 }
 
 TEST(QuadraticSurrogate, OptionsNameTheRuleTheyBreak) {

@@ -28,10 +28,10 @@
 /// shows rather than by P alone, and the model is fitted where that probe puts the plant
 /// (regret_probe); and the correction is audited against u0 on the plant's own answers
 /// (audit_period) — do no harm.
-/// Twin evaluations per assembly: d + 3 (model and check), (d + 1)(d + 2)/2 + 2 on a refit, plus
-/// up to relinearization_budget · (d + 1)² (2 (d + 1)² by default) for refits of earlier models,
-/// plus the sigma points in the fallback — O(d²), against the paper's O(2^d) candidates × sigma
-/// points.
+/// Twin evaluations per assembly: d + 3 (model and check), (d + 1)(d + 2)/2 + 2 on a refit of H
+/// (3 and 2d + 3 where the model comes from the key points' deviations), plus up to
+/// relinearization_budget · (d + 1)² (2 (d + 1)² by default) for refits of earlier models, plus
+/// the sigma points in the fallback — O(d²), against the paper's O(2^d) candidates × sigma points.
 ///
 /// Failure policy: when fitting or checking the model fails (a twin error, a non-finite value),
 /// the assembly runs in the sigma-point mode with p = 0, and last_proposal().fallback says why;
@@ -623,14 +623,16 @@ class ActiveCalibrationController {
 
   // Refits the models of the history's entries that the fit now uses farthest beyond their
   // finite-difference stencil (|r_i| > relinearization_reach · h_i on some locator, r the entry's
-  // point under the fit minus its model's centre), at most relinearization_budget · (d + 1) of
-  // them (d + 1 evaluations each): Gauss–Newton on the twin itself, with the quadratic model only
-  // between refits. Only entries whose model failed its check (τ² > 0) are refitted: elsewhere the
+  // point under the fit minus its model's centre), within relinearization_budget · (d + 1)²
+  // evaluations: Gauss–Newton on the twin itself, with the quadratic model only between refits. Only entries whose model failed its check (τ² > 0) are refitted: elsewhere the
   // model is the twin. Returns whether any entry changed.
   bool relinearize() {
     const Index d = dimension();
+    // The budget is in twin evaluations, relinearization_budget · (d + 1)²: 2 (d + 1) refits of
+    // d + 1 from Q², d + 1 of 2d + 1 from the deviations.
     const Index budget =
-        static_cast<Index>(options_.relinearization_budget * static_cast<double>(d + 1));
+        static_cast<Index>(options_.relinearization_budget * static_cast<double>((d + 1) * (d + 1))) /
+        surrogate_.refit_evaluations();
     if (budget <= 0) return false;
     candidates_.clear();
     for (Index i = 0; i < estimator_.history_size(); ++i) {

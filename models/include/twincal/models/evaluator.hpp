@@ -12,6 +12,8 @@
 ///   `options.time_limit` becomes a TwinEvaluationError carrying the assembly and the controls
 ///   of the failing twin call (the twin's own exception nested); nothing is dropped or patched;
 /// - optional memoization of repeated (assembly, u) pairs (exact, bitwise match of u).
+/// A twin that answers its key points' deviations (TwinWithDeviations) has them passed on by
+/// `deviations_batch` the same way — executed, counted, checked — but never memoized.
 ///
 /// The time limit of an in-process twin is checked when the call returns (a thread cannot be
 /// pre-empted safely), so it reports a slow twin rather than bounding the wait; ExternalTwin
@@ -163,8 +165,36 @@ class Evaluator {
     }
   }
 
-  /// Calls and wall time of quality_batch calls (`calls`, `elapsed`) and the twin evaluations
-  /// they caused (`evaluations`: cache hits excluded), since construction or reset().
+  /// m, the key points of a twin that answers their deviations.
+  [[nodiscard]] Index key_point_count() const requires TwinWithDeviations<T> {
+    return twin_->key_point_count();
+  }
+
+  /// out.col(j) = r(x, controls.col(j)), the key points' deviations, evaluated by the execution
+  /// policy, counted (one record per call) and checked as quality_batch is.
+  /// @throws DimensionMismatchError for bad shapes; TwinEvaluationError<Assembly> on a failure
+  ///         (a non-finite deviation names its control).
+  void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const requires TwinWithDeviations<T> {
+    require_deviations_batch(controls, out, control_dimension(), twin_->key_point_count());
+    const auto evaluated = static_cast<std::uint64_t>(controls.cols());
+    const CallRecord record{counter_, evaluated};
+    execution_.run(controls.cols(), [&](Index begin, Index count) {
+      const Eigen::Ref<const MatrixX> part = controls.middleCols(begin, count);
+      Eigen::Ref<MatrixX> block = out.middleCols(begin, count);
+      call_checked(assembly, part, [&] { twin_->deviations_batch(assembly, part, block); });
+      for (Index j = 0; j < count; ++j) {
+        if (block.col(j).allFinite()) continue;
+        throw TwinEvaluationError<Assembly>(
+            EvaluationFailure::non_finite, assembly, part, j,
+            "a deviation is not finite; rule: every deviation must be finite");
+      }
+    });
+  }
+
+  /// Calls and wall time of quality_batch and deviations_batch calls (`calls`, `elapsed`) and the
+  /// twin evaluations they caused (`evaluations`: cache hits excluded), since construction or
+  /// reset().
   [[nodiscard]] EvaluationStats stats() const noexcept { return counter_.stats(); }
   [[nodiscard]] const EvaluationCounter& counter() const noexcept { return counter_; }
 
@@ -233,9 +263,22 @@ class Evaluator {
   // One twin call, checked.
   void call_twin(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
                  Eigen::Ref<VectorX> out) const {
+    call_checked(assembly, controls, [&] { twin_->quality_batch(assembly, controls, out); });
+    for (Index j = 0; j < out.size(); ++j) {
+      if (std::isfinite(out(j))) continue;
+      throw TwinEvaluationError<Assembly>(EvaluationFailure::non_finite, assembly, controls, j,
+                                          fmt::format("value is {}; rule: must be finite", out(j)));
+    }
+  }
+
+  // Runs `call` (one call of the twin at `controls`): its exception, or a call slower than the
+  // time limit, becomes a TwinEvaluationError.
+  template <typename Call>
+  void call_checked(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                    Call&& call) const {
     const Stopwatch stopwatch;
     try {
-      twin_->quality_batch(assembly, controls, out);
+      std::forward<Call>(call)();
     } catch (const std::exception& cause) {
       std::throw_with_nested(TwinEvaluationError<Assembly>(EvaluationFailure::twin_threw, assembly,
                                                            controls, std::nullopt, cause.what()));
@@ -251,11 +294,6 @@ class Evaluator {
           fmt::format("the call took {:.6g} s; rule: must finish within {:.6g} s",
                       std::chrono::duration<double>(elapsed).count(),
                       std::chrono::duration<double>(*options_.time_limit).count()));
-    }
-    for (Index j = 0; j < out.size(); ++j) {
-      if (std::isfinite(out(j))) continue;
-      throw TwinEvaluationError<Assembly>(EvaluationFailure::non_finite, assembly, controls, j,
-                                          fmt::format("value is {}; rule: must be finite", out(j)));
     }
   }
 

@@ -70,6 +70,14 @@ class CaseTwin {
   /// out(j) = Q_S(x, controls.col(j)) with one batch call of the full twin; counted.
   void quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const;
+  /// m, the full twin's key points where it answers their deviations; 0 where it answers only Q.
+  [[nodiscard]] Index key_point_count() const { return twin_.key_point_count(); }
+  /// out.col(j) = r(x, u) at the full control of controls.col(j), one batch call of the full
+  /// twin; counted as Q-evaluations.
+  /// @throws InvalidArgumentError (field "deviations") for a twin that answers only Q; the
+  ///         twin's errors.
+  void deviations_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const;
   /// Q_S(x, v) for the plant (the "real" cell); not counted.
   [[nodiscard]] double plant_quality(const AssemblyId& assembly,
                                      const Eigen::Ref<const VectorX>& control) const;
@@ -120,7 +128,7 @@ class CaseTwin {
   VectorX optimal_qualities_;             // z*(x)
 };
 
-static_assert(TwinWithOptimum<CaseTwin>);
+static_assert(TwinWithOptimum<CaseTwin> && TwinWithDeviations<CaseTwin>);
 
 /// How far the case's Q_S² is from a quadratic (models/quadratic_departure.hpp): the median over
 /// its first `assemblies` assemblies of the departure over u0_S(x) ± ¼ box width, each sampled

@@ -65,12 +65,15 @@ struct ActiveOptions {
   /// such assemblies go to the random-walk sigma-point filter (the behaviour before
   /// 2026-11-25, which loses the offset on non-quadratic twins; docs/reproduction.md).
   bool weigh_model_error = true;
-  /// Per assembly, at most relinearization_budget · (d + 1) entries of the estimator's history
-  /// whose model failed its check, and which the fit now uses beyond relinearization_reach ×
-  /// their finite-difference stencil h on some locator (|r_i| > reach · h_i, r the entry's point
-  /// under the fit minus its model's centre), are refitted where the fit puts them, farthest
-  /// first (a gradient fit with their H, d + 1 evaluations each; budget 0: never; a twin whose
-  /// assemblies cannot be kept never does). Measured on contact twins (d = 6, 12): 1.1 and 1.0 ×
+  /// Per assembly, entries of the estimator's history whose model failed its check, and which the
+  /// fit now uses beyond relinearization_reach × their finite-difference stencil h on some
+  /// locator (|r_i| > reach · h_i, r the entry's point under the fit minus its model's centre),
+  /// are refitted where the fit puts them, farthest first, for at most relinearization_budget ·
+  /// (d + 1)² twin evaluations: 2 (d + 1) gradient fits with their H (d + 1 evaluations each)
+  /// from Q², d + 1 Gauss–Newton fits (2d + 1 each) from the key points' deviations (budget 0:
+  /// never; a twin whose assemblies cannot be kept never does). From the deviations, twice as
+  /// many refits of 2d + 1 (up to 4 (d + 1)² + 1 evaluations per assembly) did no better
+  /// (docs/reproduction.md, "Black-box twins"). Measured on contact twins (d = 6, 12): 1.1 and 1.0 ×
   /// the baseline without, 0.43 and 0.71 × with a budget of 1 and a reach of 1. Since probes are
   /// priced by the plant's regret, which moves entries further, a budget of 2 and a reach of 0.5
   /// do better: over five development seed pairs (contact, stiffening, kinks at d = 3 … 19) the

@@ -1,13 +1,28 @@
 #pragma once
 /// @file
-/// `QuadraticSurrogate<Twin, N>`: fits the QuadraticModel of Q²(x, ·) around the individualized
-/// control u0(x) from the twin itself, by finite differences in one twin batch, and checks it.
+/// `QuadraticSurrogate<Twin, N>`: fits the QuadraticModel of Q²(x, ·) around a control v0 from the
+/// twin itself, by finite differences in one twin batch, and checks it.
 ///
+/// From Q² (any twin):
 /// - Full fit: Q² at v0, v0 ± h_i e_i and v0 + h_i e_i + h_j e_j (i < j), (d + 1)(d + 2)/2
 ///   evaluations, gives c, g and H; exact (to rounding) for a twin whose Q² is quadratic.
 /// - Gradient fit: with H kept from the last full fit, Q² at v0 and v0 + h_i e_i, d + 1
 ///   evaluations, gives c and g. A compliant twin has one H for every assembly (y = A x + B u + c),
 ///   so the full fit is needed only every `hessian_refresh` assemblies.
+/// From the key points' deviations (a TwinWithDeviations with m > 0 key points, unless
+/// `from_deviations` is off), Gauss–Newton, with Q² = ‖r‖²/m:
+///   c = ‖r(v0)‖²/m,  g = Jᵀr(v0)/m,  H = JᵀJ/m.
+/// - Full fit: r at v0 and v0 ± h_i e_i, 2d + 1 evaluations, give the Jacobian J of r by central
+///   differences, and a fresh H; where the Q² fit pays (d + 1)(d + 2)/2 for one.
+/// - Gradient fit: with J kept from the last full fit, r at v0 alone, 1 evaluation. A compliant
+///   twin has one J for every assembly (r = A x + B u + c).
+/// Exact for an affine r (the linear FEM twins, key points without a nonlinearity); on a
+/// piecewise-affine r (contact) exact on the piece v0 lies in where no kink is within a step,
+/// while a quadratic through Q² at (d + 1)(d + 2)/2 points averages the pieces they fall on. It
+/// leaves out Σ r_k ∇²r_k, the curvature of r itself (stiffening), which the check sees. Central
+/// differences: with forward ones (d + 1 evaluations) the black-box twins' residuals summed 7 %
+/// higher and a kink episode of the tests lost its offset (docs/reproduction.md, "Black-box
+/// twins").
 /// - Check: the model against the twin at given points (the controller uses points where the
 ///   model is about to be used); the largest relative error of Q² decides whether the twin is
 ///   quadratic enough to be updated with exact moments, or needs sigma points.
@@ -37,10 +52,16 @@ namespace twincal {
 struct QuadraticSurrogateOptions {
   /// Finite-difference step per locator, as a fraction of the twin's box width on that locator.
   double step_fraction = 0.05;
-  /// Assemblies between full fits of H (1: every assembly).
+  /// Assemblies between full fits of H (of J, from the deviations; 1: every assembly).
   Index hessian_refresh = 25;
   /// Largest relative error |Q²_model − Q²_twin| / max(Q²_twin, c) accepted at the check points.
   double tolerance = 1e-3;
+  /// Fit from the key points' deviations (Gauss–Newton, 2d + 1 evaluations, a fresh H every fit)
+  /// where the twin answers them; false fits from Q² alone. On the analytic twins with contact,
+  /// stiffening and kinks it took the active controller's residuals summed over 60 cells from
+  /// 16.5 to 11.4 × their baselines, and its lost runs from 65 to 35 (docs/reproduction.md,
+  /// "Black-box twins").
+  bool from_deviations = true;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     return first_problem({rule::in_left_open("step_fraction", step_fraction, 0.0, 0.5),
@@ -73,6 +94,14 @@ class QuadraticSurrogate {
       steps_(i) = options_.step_fraction * width;
     }
     hessian_.setZero(d, d);
+    if constexpr (TwinWithDeviations<T>) {
+      const Index m = options_.from_deviations ? twin.key_point_count() : 0;
+      if (m > 0) {
+        deviations_.resize(m, 2 * d + 1);
+        jacobian_.setZero(m, d);
+        fresh_jacobian_.resize(m, d);
+      }
+    }
     const Index full = (d + 1) * (d + 2) / 2;
     points_.resize(d, full);
     values_.resize(full);
@@ -80,9 +109,19 @@ class QuadraticSurrogate {
 
   [[nodiscard]] Index dimension() const noexcept { return steps_.size(); }
   [[nodiscard]] const QuadraticSurrogateOptions& options() const noexcept { return options_; }
-  /// Evaluations of a full fit, (d + 1)(d + 2)/2, and of a gradient fit, d + 1.
-  [[nodiscard]] Index full_fit_evaluations() const noexcept { return values_.size(); }
-  [[nodiscard]] Index gradient_fit_evaluations() const noexcept { return dimension() + 1; }
+  /// Whether fits are Gauss–Newton fits from the key points' deviations (see the file comment).
+  [[nodiscard]] bool uses_deviations() const noexcept { return deviations_.size() > 0; }
+  /// Evaluations of a full fit, (d + 1)(d + 2)/2 (2d + 1 from the deviations), of a gradient
+  /// fit, d + 1 (1), and of a refit_gradient(), d + 1 (2d + 1).
+  [[nodiscard]] Index full_fit_evaluations() const noexcept {
+    return uses_deviations() ? 2 * dimension() + 1 : values_.size();
+  }
+  [[nodiscard]] Index gradient_fit_evaluations() const noexcept {
+    return uses_deviations() ? 1 : dimension() + 1;
+  }
+  [[nodiscard]] Index refit_evaluations() const noexcept {
+    return uses_deviations() ? 2 * dimension() + 1 : dimension() + 1;
+  }
   /// Whether the next fit will be a full one.
   [[nodiscard]] bool hessian_stale() const noexcept {
     return !has_hessian_ || age_ >= options_.hessian_refresh;
@@ -90,13 +129,27 @@ class QuadraticSurrogate {
   /// Forces the next fit to refit H (e.g. after a failed check).
   void invalidate_hessian() noexcept { has_hessian_ = false; }
 
-  /// Fits `model` around `center` for `assembly` (full or gradient fit, see the file comment).
+  /// Fits `model` around `center` for `assembly` (full, gradient or Gauss–Newton fit, see the
+  /// file comment).
   /// @returns the twin evaluations spent.
-  /// @throws NonFiniteError naming the point when the twin returns a non-finite quality; the
-  ///         twin's own errors propagate. The surrogate is unchanged when it throws.
+  /// @throws NonFiniteError naming the point when the twin returns a non-finite quality or
+  ///         deviation; the twin's own errors propagate. The surrogate is unchanged when it throws.
   std::uint64_t fit(const Assembly& assembly, const Vector<N>& center, QuadraticModel<N>& model) {
     const Index d = dimension();
     require_dimension("center", center.size(), d);
+    if (uses_deviations()) {
+      const bool stale = hessian_stale();
+      const std::uint64_t spent = stale ? fit_from_deviations(assembly, center, model)
+                                        : fit_with_kept_jacobian(assembly, center, model);
+      if (stale) {
+        jacobian_ = fresh_jacobian_;
+        hessian_ = model.hessian;
+        has_hessian_ = true;
+        age_ = 0;
+      }
+      ++age_;
+      return spent;
+    }
     const bool full = hessian_stale();
     const Index count = full ? full_fit_evaluations() : gradient_fit_evaluations();
     auto points = points_.leftCols(count);
@@ -145,9 +198,10 @@ class QuadraticSurrogate {
     return static_cast<std::uint64_t>(count);
   }
 
-  /// A gradient fit around `center` with the given `hessian` (d + 1 evaluations), for an
+  /// A gradient fit around `center` with the given `hessian` (refit_evaluations()), for an
   /// assembly measured earlier whose model is refitted where it is now used; the surrogate's own
-  /// H and its age are unchanged.
+  /// H and its age are unchanged. From the deviations it is a full Gauss–Newton fit (2d + 1
+  /// evaluations), whose H is fitted there too (`hessian` is then only checked for its shape).
   /// @returns the twin evaluations spent.
   /// @throws as fit(); the surrogate is unchanged.
   template <typename Hessian>
@@ -157,6 +211,7 @@ class QuadraticSurrogate {
     const Index d = dimension();
     require_dimension("center", center.size(), d);
     require_shape("hessian", hessian, d, d);
+    if (uses_deviations()) return fit_from_deviations(assembly, center, model);
     const Index count = gradient_fit_evaluations();
     auto points = points_.leftCols(count);
     points.colwise() = center;
@@ -190,17 +245,21 @@ class QuadraticSurrogate {
 
   static constexpr std::string_view json_format = "twincal.quadratic_surrogate";
 
-  /// The kept H, whether there is one and its age (assemblies since the last full fit): what
-  /// decides the next fit's kind and its H. The steps are settings, the points workspaces.
+  /// The kept H (and from the deviations the kept J), whether there is one and its age
+  /// (assemblies since the last full fit): what decides the next fit's kind and its H. The steps
+  /// are settings, the points workspaces.
   [[nodiscard]] nlohmann::json save() const {
-    return {{"format", json_format},
-            {"dimension", dimension()},
-            {"hessian", json_state::matrix_to_json(hessian_)},
-            {"has_hessian", has_hessian_},
-            {"age", age_}};
+    nlohmann::json saved = {{"format", json_format},
+                            {"dimension", dimension()},
+                            {"hessian", json_state::matrix_to_json(hessian_)},
+                            {"has_hessian", has_hessian_},
+                            {"age", age_}};
+    if (uses_deviations()) saved["jacobian"] = json_state::matrix_to_json(jacobian_);
+    return saved;
   }
 
-  /// Restores a snapshot of save() into a surrogate of the same twin and options.
+  /// Restores a snapshot of save() into a surrogate of the same twin and options (from the
+  /// deviations it needs "jacobian", which a surrogate fitted from Q² does not save).
   /// @throws InvalidArgumentError, DimensionMismatchError, NonFiniteError naming the field; the
   ///         surrogate unchanged.
   void restore(const nlohmann::json& saved) {
@@ -210,12 +269,78 @@ class QuadraticSurrogate {
     json_state::read_matrix(json_state::field(saved, "hessian"), "hessian", hessian);
     const bool has_hessian = json_state::read_bool(saved, "has_hessian");
     const Index age = json_state::read_integer_field(saved, "age", 0);
+    MatrixX jacobian(jacobian_.rows(), jacobian_.cols());
+    if (uses_deviations()) {
+      json_state::read_matrix(json_state::field(saved, "jacobian"), "jacobian", jacobian);
+    }
     hessian_ = hessian;
     has_hessian_ = has_hessian;
     age_ = age;
+    if (uses_deviations()) jacobian_ = jacobian;
   }
 
  private:
+  // The full Gauss–Newton fit of the file comment: J into fresh_jacobian_; writes only `model`
+  // and the scratch.
+  std::uint64_t fit_from_deviations(const Assembly& assembly, const Vector<N>& center,
+                                    QuadraticModel<N>& model) {
+    const Index d = dimension();
+    const Index count = 2 * d + 1;
+    auto points = points_.leftCols(count);
+    points.colwise() = center;
+    for (Index i = 0; i < d; ++i) {
+      points(i, 1 + i) += steps_(i);
+      points(i, 1 + d + i) -= steps_(i);
+    }
+    if constexpr (TwinWithDeviations<T>) twin_->deviations_batch(assembly, points, deviations_);
+    require_finite_deviations(count);
+    const double m = static_cast<double>(deviations_.rows());
+    for (Index i = 0; i < d; ++i) {
+      fresh_jacobian_.col(i) =
+          (deviations_.col(1 + i) - deviations_.col(1 + d + i)) / (2.0 * steps_(i));
+    }
+    model.center = center;
+    model.value = deviations_.col(0).squaredNorm() / m;
+    // Coefficient-wise products: no blocking workspace, so a fit allocates nothing.
+    model.half_gradient.resize(d);
+    model.half_gradient.noalias() =
+        fresh_jacobian_.transpose().lazyProduct(deviations_.col(0)) / m;
+    model.hessian.resize(d, d);
+    model.hessian.noalias() = fresh_jacobian_.transpose().lazyProduct(fresh_jacobian_) / m;
+    return static_cast<std::uint64_t>(count);
+  }
+
+  // The gradient fit from the deviations: r at v0, J and H kept.
+  std::uint64_t fit_with_kept_jacobian(const Assembly& assembly, const Vector<N>& center,
+                                       QuadraticModel<N>& model) {
+    const Index d = dimension();
+    auto point = points_.leftCols(1);
+    point.col(0) = center;
+    auto residual = deviations_.leftCols(1);
+    if constexpr (TwinWithDeviations<T>) twin_->deviations_batch(assembly, point, residual);
+    require_finite_deviations(1);
+    const double m = static_cast<double>(deviations_.rows());
+    model.center = center;
+    model.value = deviations_.col(0).squaredNorm() / m;
+    model.half_gradient.resize(d);
+    model.half_gradient.noalias() = jacobian_.transpose().lazyProduct(deviations_.col(0)) / m;
+    model.hessian = hessian_;
+    return 1;
+  }
+
+  // The first `count` columns of deviations_ are finite.
+  void require_finite_deviations(Index count) const {
+    for (Index c = 0; c < count; ++c) {
+      if (!deviations_.col(c).allFinite()) {
+        throw NonFiniteError("twin deviations",
+                             fmt::format("twin deviations: r(x, v) is not finite at v = column {} "
+                                         "of the surrogate's points; rule: the twin must return "
+                                         "finite deviations",
+                                         c));
+      }
+    }
+  }
+
   // g from Q² at v0 and v0 + h_i e_i (values_) with H known: one-sided differences corrected
   // for the curvature.
   void gradient_from_values(const SquareMatrix<N>& hessian, QuadraticModel<N>& model) const {
@@ -249,6 +374,9 @@ class QuadraticSurrogate {
   Index age_ = 0;
   MatrixX points_;
   VectorX values_;
+  MatrixX deviations_;      // m × (2d + 1) from the deviations, else empty
+  MatrixX jacobian_;        // m × d, J kept from the last full fit
+  MatrixX fresh_jacobian_;  // m × d, J of the fit at hand
 };
 
 }  // namespace twincal
