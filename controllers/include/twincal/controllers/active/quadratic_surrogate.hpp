@@ -59,7 +59,7 @@ struct QuadraticSurrogateOptions {
   /// Fit from the key points' deviations (Gauss–Newton, 2d + 1 evaluations, a fresh H every fit)
   /// where the twin answers them; false fits from Q² alone. On the analytic twins with contact,
   /// stiffening and kinks it took the active controller's residuals summed over 60 cells from
-  /// 16.5 to 11.4 × their baselines, and its lost runs from 65 to 35 (docs/reproduction.md,
+  /// 16.5 to 11.3 × their baselines, and its lost runs from 65 to 29 (docs/reproduction.md,
   /// "Black-box twins").
   bool from_deviations = true;
 
