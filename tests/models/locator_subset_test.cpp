@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "twincal/core/random_stream.hpp"
+#include "twincal/models/key_point_twin.hpp"
+#include "twincal/models/no_nonlinearity.hpp"
 #include "twincal/models/rms_quadratic_twin.hpp"
 
 namespace twincal {
@@ -51,6 +53,26 @@ TEST(LocatorSubset, HoldsTheOtherLocatorsAtTheirOptimum) {
     EXPECT_EQ(subset.quality(x, v), twin.quality(x, full));
     EXPECT_GT(subset.quality(x, v), subset.optimal_quality(x));
   }
+}
+
+// A twin that answers its key points' deviations keeps answering them, at the embedded control
+// (tests/static/models_check.cpp says which subsets have them).
+TEST(LocatorSubset, PassesTheKeyPointsDeviationsOn) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 4;
+  const KeyPointTwin<NoNonlinearity> twin(options, RandomStream(8));
+  const LocatorSubset subset(twin, {3, 1});
+  ASSERT_EQ(subset.key_point_count(), twin.key_point_count());
+  const AssemblyId x{1, 4};
+  MatrixX controls(2, 3);
+  controls << 0.1, -0.2, 0.05, 0.3, 0.0, -0.15;
+  MatrixX deviations(twin.key_point_count(), 3);
+  subset.deviations_batch(x, controls, deviations);
+  for (Index j = 0; j < 3; ++j) {
+    EXPECT_EQ(deviations.col(j), twin.deviations(x, subset.embed(x, controls.col(j))));
+  }
+  MatrixX wrong(twin.key_point_count(), 2);
+  EXPECT_THROW(subset.deviations_batch(x, controls, wrong), DimensionMismatchError);
 }
 
 TEST(LocatorSubset, SingleLocatorBatchMatchesSingleEvaluations) {

@@ -96,6 +96,11 @@ static_assert(!TwinWithDeviations<RmsQuadraticTwin>);
 // A program's deviations are known at run time (ExternalTwinOptions::key_points; 0 refuses them).
 static_assert(TwinWithDeviations<ExternalTwin>);
 static_assert(Twin<Evaluator<Evaluator<MinimalTwin>>>);
+// The wrappers pass the deviations on where the twin has them, and only there.
+static_assert(TwinWithDeviations<Evaluator<KeyPointTwin<ContactNonlinearity>>>);
+static_assert(!TwinWithDeviations<Evaluator<RmsQuadraticTwin>>);
+static_assert(TwinWithDeviations<LocatorSubset<KeyPointTwin<NoNonlinearity>>>);
+static_assert(!TwinWithDeviations<LocatorSubset<RmsQuadraticTwin>>);
 
 // --- TwinWithKeptAssemblies: value assemblies yes, borrowed ones no, wrappers forward ----------
 struct BorrowingTwin : MinimalTwin {

@@ -6,7 +6,8 @@
 /// while the other locators stay at the individualized optimum u0(x) (eq. 3). For a control
 /// v ∈ R^k of the chosen locators S, the restricted twin evaluates
 ///   Q_S(x, v) = Q(x, u),   u_S = v,   u_j = u0_j(x) for j ∉ S,
-/// so its optimum is u0_S(x) with the same z*(x) (the full optimum is feasible for it).
+/// so its optimum is u0_S(x) with the same z*(x) (the full optimum is feasible for it). Of a
+/// TwinWithDeviations it passes the key points' deviations on the same way.
 /// The subset refers to the full twin, which must outlive it.
 
 #include <algorithm>
@@ -116,9 +117,19 @@ class LocatorSubset {
   void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const {
     require_control_batch(controls, out, size());
-    MatrixX full = twin_->optimum(assembly).replicate(1, controls.cols());
-    for (Index i = 0; i < size(); ++i) full.row(locator(i)) = controls.row(i);
-    twin_->quality_batch(assembly, full, out);
+    twin_->quality_batch(assembly, embed_batch(assembly, controls), out);
+  }
+
+  /// m, the full twin's key points, where it answers their deviations.
+  [[nodiscard]] Index key_point_count() const requires TwinWithDeviations<T> {
+    return twin_->key_point_count();
+  }
+
+  /// out.col(j) = r(x, embed(x, controls.col(j))): one batch call of the full twin.
+  void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const requires TwinWithDeviations<T> {
+    require_deviations_batch(controls, out, size(), twin_->key_point_count());
+    twin_->deviations_batch(assembly, embed_batch(assembly, controls), out);
   }
 
   /// u0_S(x).
@@ -135,6 +146,14 @@ class LocatorSubset {
   }
 
  private:
+  // The full controls: u0(x) in every column, the chosen locators set from `controls`.
+  [[nodiscard]] MatrixX embed_batch(const Assembly& assembly,
+                                    const Eigen::Ref<const MatrixX>& controls) const {
+    MatrixX full = twin_->optimum(assembly).replicate(1, controls.cols());
+    for (Index i = 0; i < size(); ++i) full.row(locator(i)) = controls.row(i);
+    return full;
+  }
+
   [[nodiscard]] Index size() const noexcept { return std::ssize(locators_); }
   [[nodiscard]] Index locator(Index i) const noexcept {
     return locators_[static_cast<std::size_t>(i)];
