@@ -56,8 +56,8 @@ struct QuadraticSurrogateOptions {
   Index hessian_refresh = 25;
   /// Largest relative error |Q²_model − Q²_twin| / max(Q²_twin, c) accepted at the check points.
   double tolerance = 1e-3;
-  /// Fit from the key points' deviations (Gauss–Newton, 2d + 1 evaluations, a fresh H every fit)
-  /// where the twin answers them; false fits from Q² alone. On the analytic twins with contact,
+  /// Fit from the key points' deviations (Gauss–Newton: 2d + 1 evaluations for J and H, 1 while
+  /// J is kept) where the twin answers them; false fits from Q² alone. On the analytic twins with contact,
   /// stiffening and kinks it took the active controller's residuals summed over 60 cells from
   /// 16.5 to 11.3 × their baselines, and its lost runs from 65 to 29 (docs/reproduction.md,
   /// "Black-box twins").
