@@ -576,8 +576,7 @@ TYPED_TEST(ActiveControllerOnNonlinearTwin, BeatsNoCalibrationAndKeepsTheOffset)
     double offset = 0.0;
     for (const std::uint64_t seed : {11U, 12U, 13U}) {
       const Episode episode = run<TypeParam>(seed, from_deviations);
-      const std::string label =
-          fmt::format("seed {}, from_deviations {}", seed, from_deviations);
+      const std::string label = fmt::format("seed {}, from_deviations {}", seed, from_deviations);
       if constexpr (!std::is_same_v<TypeParam, ContactNonlinearity>) {
         EXPECT_LT(episode.error, episode.offset) << "lost, " << label;
       }

@@ -163,12 +163,18 @@ void CaseTwin::embed(Index position, const Eigen::Ref<const MatrixX>& controls,
   }
 }
 
+Eigen::Block<MatrixX, Dynamic, Dynamic, true> CaseTwin::embedded(
+    const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls) const {
+  Eigen::Block<MatrixX, Dynamic, Dynamic, true> full =
+      full_controls(twin_.control_dimension(), controls.cols());
+  embed(position(assembly), controls, full);
+  return full;
+}
+
 double CaseTwin::evaluate(const AnyTwin& model, const AssemblyId& assembly,
                           const Eigen::Ref<const VectorX>& control) const {
   require_control(control, control_dimension());
-  Eigen::Block<MatrixX, Dynamic, Dynamic, true> full = full_controls(twin_.control_dimension(), 1);
-  embed(position(assembly), control, full);
-  return model.quality(assembly, full.col(0));
+  return model.quality(assembly, embedded(assembly, control).col(0));
 }
 
 double CaseTwin::plant_quality(const AssemblyId& assembly,
@@ -186,10 +192,7 @@ double CaseTwin::quality(const AssemblyId& assembly,
 void CaseTwin::quality_batch(const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls,
                              Eigen::Ref<VectorX> out) const {
   require_control_batch(controls, out, control_dimension());
-  Eigen::Block<MatrixX, Dynamic, Dynamic, true> full =
-      full_controls(twin_.control_dimension(), controls.cols());
-  embed(position(assembly), controls, full);
-  twin_.quality_batch(assembly, full, out);
+  twin_.quality_batch(assembly, embedded(assembly, controls), out);
   thread_evaluations += static_cast<std::uint64_t>(controls.cols());
 }
 
@@ -197,10 +200,7 @@ void CaseTwin::deviations_batch(const AssemblyId& assembly,
                                 const Eigen::Ref<const MatrixX>& controls,
                                 Eigen::Ref<MatrixX> out) const {
   require_deviations_batch(controls, out, control_dimension(), key_point_count());
-  Eigen::Block<MatrixX, Dynamic, Dynamic, true> full =
-      full_controls(twin_.control_dimension(), controls.cols());
-  embed(position(assembly), controls, full);
-  twin_.deviations_batch(assembly, full, out);
+  twin_.deviations_batch(assembly, embedded(assembly, controls), out);
   thread_evaluations += static_cast<std::uint64_t>(controls.cols());
 }
 

@@ -624,15 +624,16 @@ class ActiveCalibrationController {
   // Refits the models of the history's entries that the fit now uses farthest beyond their
   // finite-difference stencil (|r_i| > relinearization_reach · h_i on some locator, r the entry's
   // point under the fit minus its model's centre), within relinearization_budget · (d + 1)²
-  // evaluations: Gauss–Newton on the twin itself, with the quadratic model only between refits. Only entries whose model failed its check (τ² > 0) are refitted: elsewhere the
-  // model is the twin. Returns whether any entry changed.
+  // evaluations: Gauss–Newton on the twin itself, with the quadratic model only between refits.
+  // Only entries whose model failed its check (τ² > 0) are refitted: elsewhere the model is the
+  // twin. Returns whether any entry changed.
   bool relinearize() {
     const Index d = dimension();
     // The budget is in twin evaluations, relinearization_budget · (d + 1)²: 2 (d + 1) refits of
     // d + 1 from Q², d + 1 of 2d + 1 from the deviations.
-    const Index budget =
-        static_cast<Index>(options_.relinearization_budget * static_cast<double>((d + 1) * (d + 1))) /
-        surrogate_.refit_evaluations();
+    const Index budget = static_cast<Index>(options_.relinearization_budget *
+                                            static_cast<double>((d + 1) * (d + 1))) /
+                         surrogate_.refit_evaluations();
     if (budget <= 0) return false;
     candidates_.clear();
     for (Index i = 0; i < estimator_.history_size(); ++i) {

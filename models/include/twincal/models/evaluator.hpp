@@ -184,10 +184,14 @@ class Evaluator {
       Eigen::Ref<MatrixX> block = out.middleCols(begin, count);
       call_checked(assembly, part, [&] { twin_->deviations_batch(assembly, part, block); });
       for (Index j = 0; j < count; ++j) {
-        if (block.col(j).allFinite()) continue;
-        throw TwinEvaluationError<Assembly>(
-            EvaluationFailure::non_finite, assembly, part, j,
-            "a deviation is not finite; rule: every deviation must be finite");
+        for (Index k = 0; k < block.rows(); ++k) {
+          if (std::isfinite(block(k, j))) continue;
+          throw TwinEvaluationError<Assembly>(
+              EvaluationFailure::non_finite, assembly, part, j,
+              fmt::format("a deviation is not finite: key point {} is {}; rule: every deviation "
+                          "must be finite",
+                          k, block(k, j)));
+        }
       }
     });
   }

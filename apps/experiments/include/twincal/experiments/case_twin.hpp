@@ -110,6 +110,9 @@ class CaseTwin {
   // The full control u0(x) with the controlled entries replaced, into `out` (D × k).
   void embed(Index position, const Eigen::Ref<const MatrixX>& controls,
              Eigen::Ref<MatrixX> out) const;
+  // The same into this thread's workspace (D × k), which the next call reuses.
+  [[nodiscard]] Eigen::Block<MatrixX, Dynamic, Dynamic, true> embedded(
+      const AssemblyId& assembly, const Eigen::Ref<const MatrixX>& controls) const;
   // Column j of the optima: u0(x) of the full twin, its controlled entries u0_S(x), and z*(x).
   void store_optimum(Index j, const VectorX& full, double z_star);
 

@@ -73,8 +73,8 @@ struct ActiveOptions {
   /// from Q², d + 1 Gauss–Newton fits (2d + 1 each) from the key points' deviations (budget 0:
   /// never; a twin whose assemblies cannot be kept never does). From the deviations, twice as
   /// many refits of 2d + 1 (up to 4 (d + 1)² + 1 evaluations per assembly) did no better
-  /// (docs/reproduction.md, "Black-box twins"). Measured on contact twins (d = 6, 12): 1.1 and 1.0 ×
-  /// the baseline without, 0.43 and 0.71 × with a budget of 1 and a reach of 1. Since probes are
+  /// (docs/reproduction.md, "Black-box twins"). Measured on contact twins (d = 6, 12): 1.1 and 1.0
+  /// × the baseline without, 0.43 and 0.71 × with a budget of 1 and a reach of 1. Since probes are
   /// priced by the plant's regret, which moves entries further, a budget of 2 and a reach of 0.5
   /// do better: over five development seed pairs (contact, stiffening, kinks at d = 3 … 19) the
   /// sum of the ratios to the baseline went 19.1 → 16.5 for 1.1–1.8 × the evaluations, and the

@@ -57,9 +57,9 @@ struct QuadraticSurrogateOptions {
   /// Largest relative error |Q²_model − Q²_twin| / max(Q²_twin, c) accepted at the check points.
   double tolerance = 1e-3;
   /// Fit from the key points' deviations (Gauss–Newton: 2d + 1 evaluations for J and H, 1 while
-  /// J is kept) where the twin answers them; false fits from Q² alone. On the analytic twins with contact,
-  /// stiffening and kinks it took the active controller's residuals summed over 60 cells from
-  /// 16.5 to 11.3 × their baselines, and its lost runs from 65 to 29 (docs/reproduction.md,
+  /// J is kept) where the twin answers them; false fits from Q² alone. On the analytic twins with
+  /// contact, stiffening and kinks it took the active controller's residuals summed over 60 cells
+  /// from 16.5 to 11.3 × their baselines, and its lost runs from 65 to 29 (docs/reproduction.md,
   /// "Black-box twins").
   bool from_deviations = true;
 
@@ -135,67 +135,25 @@ class QuadraticSurrogate {
   /// @throws NonFiniteError naming the point when the twin returns a non-finite quality or
   ///         deviation; the twin's own errors propagate. The surrogate is unchanged when it throws.
   std::uint64_t fit(const Assembly& assembly, const Vector<N>& center, QuadraticModel<N>& model) {
-    const Index d = dimension();
-    require_dimension("center", center.size(), d);
-    if (uses_deviations()) {
-      const bool stale = hessian_stale();
-      const std::uint64_t spent = stale ? fit_from_deviations(assembly, center, model)
-                                        : fit_with_kept_jacobian(assembly, center, model);
-      if (stale) {
-        jacobian_ = fresh_jacobian_;
-        hessian_ = model.hessian;
-        has_hessian_ = true;
-        age_ = 0;
-      }
-      ++age_;
-      return spent;
-    }
+    require_dimension("center", center.size(), dimension());
     const bool full = hessian_stale();
-    const Index count = full ? full_fit_evaluations() : gradient_fit_evaluations();
-    auto points = points_.leftCols(count);
-    points.colwise() = center;
-    for (Index i = 0; i < d; ++i) points(i, 1 + i) += steps_(i);
-    if (full) {
-      for (Index i = 0; i < d; ++i) points(i, 1 + d + i) -= steps_(i);
-      Index column = 1 + 2 * d;
-      for (Index i = 0; i < d; ++i) {
-        for (Index j = i + 1; j < d; ++j, ++column) {
-          points(i, column) += steps_(i);
-          points(j, column) += steps_(j);
-        }
+    std::uint64_t spent = 0;
+    if (uses_deviations()) {
+      spent = full ? fit_from_deviations(assembly, center, model)
+                   : fit_with_kept_jacobian(assembly, center, model);
+      if (full) {
+        jacobian_.swap(fresh_jacobian_);
+        hessian_ = model.hessian;
       }
+    } else {
+      spent = fit_from_squares(assembly, center, full, model);
     }
-    evaluate_squares(assembly, points, values_.head(count));
-
-    const double f0 = values_(0);
-    model.center = center;
-    model.value = f0;
-    model.half_gradient.resize(d);
     if (full) {
-      for (Index i = 0; i < d; ++i) {
-        const double h = steps_(i);
-        const double plus = values_(1 + i);
-        const double minus = values_(1 + d + i);
-        hessian_(i, i) = (plus - 2.0 * f0 + minus) / (2.0 * h * h);
-        model.half_gradient(i) = (plus - minus) / (4.0 * h);
-      }
-      Index column = 1 + 2 * d;
-      for (Index i = 0; i < d; ++i) {
-        for (Index j = i + 1; j < d; ++j, ++column) {
-          const double mixed = (values_(column) - values_(1 + i) - values_(1 + j) + f0) /
-                               (2.0 * steps_(i) * steps_(j));
-          hessian_(i, j) = mixed;
-          hessian_(j, i) = mixed;
-        }
-      }
       has_hessian_ = true;
       age_ = 0;
-    } else {
-      gradient_from_values(hessian_, model);
     }
     ++age_;
-    model.hessian = hessian_;
-    return static_cast<std::uint64_t>(count);
+    return spent;
   }
 
   /// A gradient fit around `center` with the given `hessian` (refit_evaluations()), for an
@@ -280,6 +238,54 @@ class QuadraticSurrogate {
   }
 
  private:
+  // The fit from Q² of the file comment, full or with H kept; a full one writes hessian_.
+  std::uint64_t fit_from_squares(const Assembly& assembly, const Vector<N>& center, bool full,
+                                 QuadraticModel<N>& model) {
+    const Index d = dimension();
+    const Index count = full ? full_fit_evaluations() : gradient_fit_evaluations();
+    auto points = points_.leftCols(count);
+    points.colwise() = center;
+    for (Index i = 0; i < d; ++i) points(i, 1 + i) += steps_(i);
+    if (full) {
+      for (Index i = 0; i < d; ++i) points(i, 1 + d + i) -= steps_(i);
+      Index column = 1 + 2 * d;
+      for (Index i = 0; i < d; ++i) {
+        for (Index j = i + 1; j < d; ++j, ++column) {
+          points(i, column) += steps_(i);
+          points(j, column) += steps_(j);
+        }
+      }
+    }
+    evaluate_squares(assembly, points, values_.head(count));
+
+    const double f0 = values_(0);
+    model.center = center;
+    model.value = f0;
+    model.half_gradient.resize(d);
+    if (full) {
+      for (Index i = 0; i < d; ++i) {
+        const double h = steps_(i);
+        const double plus = values_(1 + i);
+        const double minus = values_(1 + d + i);
+        hessian_(i, i) = (plus - 2.0 * f0 + minus) / (2.0 * h * h);
+        model.half_gradient(i) = (plus - minus) / (4.0 * h);
+      }
+      Index column = 1 + 2 * d;
+      for (Index i = 0; i < d; ++i) {
+        for (Index j = i + 1; j < d; ++j, ++column) {
+          const double mixed = (values_(column) - values_(1 + i) - values_(1 + j) + f0) /
+                               (2.0 * steps_(i) * steps_(j));
+          hessian_(i, j) = mixed;
+          hessian_(j, i) = mixed;
+        }
+      }
+    } else {
+      gradient_from_values(hessian_, model);
+    }
+    model.hessian = hessian_;
+    return static_cast<std::uint64_t>(count);
+  }
+
   // The full Gauss–Newton fit of the file comment: J into fresh_jacobian_; writes only `model`
   // and the scratch.
   std::uint64_t fit_from_deviations(const Assembly& assembly, const Vector<N>& center,
@@ -299,12 +305,7 @@ class QuadraticSurrogate {
       fresh_jacobian_.col(i) =
           (deviations_.col(1 + i) - deviations_.col(1 + d + i)) / (2.0 * steps_(i));
     }
-    model.center = center;
-    model.value = deviations_.col(0).squaredNorm() / m;
-    // Coefficient-wise products: no blocking workspace, so a fit allocates nothing.
-    model.half_gradient.resize(d);
-    model.half_gradient.noalias() =
-        fresh_jacobian_.transpose().lazyProduct(deviations_.col(0)) / m;
+    value_and_gradient(center, fresh_jacobian_, model);
     model.hessian.resize(d, d);
     model.hessian.noalias() = fresh_jacobian_.transpose().lazyProduct(fresh_jacobian_) / m;
     return static_cast<std::uint64_t>(count);
@@ -313,30 +314,37 @@ class QuadraticSurrogate {
   // The gradient fit from the deviations: r at v0, J and H kept.
   std::uint64_t fit_with_kept_jacobian(const Assembly& assembly, const Vector<N>& center,
                                        QuadraticModel<N>& model) {
-    const Index d = dimension();
     auto point = points_.leftCols(1);
     point.col(0) = center;
     auto residual = deviations_.leftCols(1);
     if constexpr (TwinWithDeviations<T>) twin_->deviations_batch(assembly, point, residual);
     require_finite_deviations(1);
+    value_and_gradient(center, jacobian_, model);
+    model.hessian = hessian_;
+    return 1;
+  }
+
+  // c = ‖r(v0)‖²/m and g = Jᵀr(v0)/m, r(v0) the first column of deviations_. Coefficient-wise
+  // products: no blocking workspace, so a fit allocates nothing.
+  void value_and_gradient(const Vector<N>& center, const MatrixX& jacobian,
+                          QuadraticModel<N>& model) const {
     const double m = static_cast<double>(deviations_.rows());
     model.center = center;
     model.value = deviations_.col(0).squaredNorm() / m;
-    model.half_gradient.resize(d);
-    model.half_gradient.noalias() = jacobian_.transpose().lazyProduct(deviations_.col(0)) / m;
-    model.hessian = hessian_;
-    return 1;
+    model.half_gradient.resize(dimension());
+    model.half_gradient.noalias() = jacobian.transpose().lazyProduct(deviations_.col(0)) / m;
   }
 
   // The first `count` columns of deviations_ are finite.
   void require_finite_deviations(Index count) const {
     for (Index c = 0; c < count; ++c) {
-      if (!deviations_.col(c).allFinite()) {
+      for (Index k = 0; k < deviations_.rows(); ++k) {
+        if (std::isfinite(deviations_(k, c))) continue;
         throw NonFiniteError("twin deviations",
                              fmt::format("twin deviations: r(x, v) is not finite at v = column {} "
-                                         "of the surrogate's points; rule: the twin must return "
-                                         "finite deviations",
-                                         c));
+                                         "of the surrogate's points (key point {} is {}); rule: "
+                                         "the twin must return finite deviations",
+                                         c, k, deviations_(k, c)));
       }
     }
   }
