@@ -311,6 +311,46 @@ TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
   }
 }
 
+// fit_at_audited_arm: the audit picks its arm before the assembly's model is fitted, and the
+// model is fitted where the plant will be under that arm if the estimate is right: at the
+// twin-frame control u0 + (δû if corrected) − δû, so an assembly the audit leaves uncorrected is
+// fitted at u0 − δû, not at u0. Probes priced by the model (regret_probe = 0), so that the
+// centre does not hold the probe.
+TEST(ActiveController, FitsEachModelWhereTheAuditsArmPutsThePlantWhenAsked) {
+  const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
+  const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  const ActiveOptions options{.regret_probe = 0.0, .audit_period = 3, .fit_at_audited_arm = true};
+  ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6), options);
+  const VectorX lower = twin.lower_bounds();
+  const VectorX upper = twin.upper_bounds();
+  const VectorX max_offset = options.max_offset_fraction * (upper - lower);
+  std::array<int, 2> arms{};
+  double uncorrected_estimate = 0.0;  // the largest |δû| the audit left uncorrected
+  for (int t = 0; t < 150; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+    const VectorX u = controller.propose(x);
+    const ActiveStepReport& step = controller.last_step();
+    if (step.audited) {
+      ++arms[step.corrected ? 1 : 0];
+      const ProposalReport& proposal = controller.last_proposal();
+      const VectorX estimate = proposal.default_control - proposal.individual_control;
+      VectorX expected = proposal.individual_control.cwiseMax(lower).cwiseMin(upper);
+      if (step.corrected) expected += estimate.cwiseMax(-max_offset).cwiseMin(max_offset);
+      expected = (expected - estimate).cwiseMax(lower).cwiseMin(upper);
+      EXPECT_LT((controller.model().center - expected).cwiseAbs().maxCoeff(), 1e-12)
+          << "assembly " << t << ", corrected " << step.corrected;
+      if (!step.corrected) uncorrected_estimate = std::max(uncorrected_estimate, estimate.norm());
+    }
+    const double z = twin.quality(x, VectorX(u - offset)) + 5.0 * (u - twin.optimum(x)).norm();
+    controller.observe(x, u, z);
+  }
+  // Both arms were audited, and the uncorrected arm had an estimate to leave out.
+  EXPECT_GT(arms[0], 3);
+  EXPECT_GT(arms[1], 3);
+  EXPECT_GT(uncorrected_estimate, 0.01);
+}
+
 // The audit compares its arms on pairs: an audited assembly and the one just before it, when
 // that was audited in the other arm. Recomputed from the step reports of the harmful plant
 // above, the pairs' regrets (z − z*)/z* are exactly the ones the controller keeps, ring slot by

@@ -187,7 +187,8 @@ class ActiveCalibrationController {
     report_.reset();
     // Where the last assembly's model erred, so will this one's: its probe is priced by the
     // plant's regret and designed before the model, which is then fitted where it puts the plant.
-    const bool price_by_regret = options_.regret_probe > 0.0 && step_.model_variance > 0.0;
+    const bool last_model_erred = step_.model_variance > 0.0;
+    const bool price_by_regret = options_.regret_probe > 0.0 && last_model_erred;
     step_ = ActiveStepReport{};
     report_.individual_control = u0.control;
     report_.optimal_quality = u0.quality;
@@ -197,6 +198,7 @@ class ActiveCalibrationController {
     center_ = u0.control;
 
     quadratic_ = false;
+    audited_arm_.reset();
     bool probe_designed = false;
     std::uint64_t evaluations = 0;
     time_ = assemblies_;
@@ -205,7 +207,13 @@ class ActiveCalibrationController {
       // twin-frame control u − δû without the probe, inside the box (for a twin whose Q² is a
       // quadratic, anywhere is the same).
       if (estimator_.fit_time() != time_) estimator_.fit(time_);
-      const bool correct = (estimator_.significant() || restarted_) && !harmful();
+      bool correct = (estimator_.significant() || restarted_) && !harmful();
+      if (options_.fit_at_audited_arm && (estimator_.significant() || restarted_)) {
+        // The audit picks its arm now, from the last assembly's model, and the model is fitted
+        // where that arm puts the plant.
+        audited_arm_ = audit_decision(last_model_erred, !correct);
+        if (audited_arm_) correct = *audited_arm_;
+      }
       model_center_ = center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
       if (correct)
         model_center_ += estimator_.position().cwiseMax(-max_offset_).cwiseMin(max_offset_);
@@ -258,7 +266,12 @@ class ActiveCalibrationController {
     // predicts again.
     const bool wanted = step_.corrected;
     if (quadratic_ && harmful()) step_.corrected = false;
-    audit(wanted);
+    if (options_.fit_at_audited_arm) {
+      step_.audited = quadratic_ && audited_arm_.has_value();
+      if (step_.audited) step_.corrected = step_.corrected && *audited_arm_;
+    } else {
+      audit(wanted);
+    }
     control_ =
         (center_ + probe_vector_).cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
     if (step_.corrected) control_ += mean_.cwiseMax(-max_offset_).cwiseMin(max_offset_);
@@ -677,26 +690,32 @@ class ActiveCalibrationController {
   // the last audit_window pairs of consecutive audited assemblies of different arms (audit_means).
   // Until there are 3 pairs, the arms' last audit_window regrets stand in; until each arm has 3:
   // with τ² > 0 the estimate, which weighs its models' errors, is trusted; on a misfit alone,
-  // which it does not explain, the arms alternate.
+  // which it does not explain, the arms alternate. After the model's fit, from its own check;
+  // with fit_at_audited_arm before it (audit_decision), from the last assembly's.
   void audit(bool wanted) {
     step_.audited = false;
-    const bool erring_model = step_.model_variance > 0.0;
+    if (!quadratic_ || !wanted) return;
+    const std::optional<bool> arm = audit_decision(step_.model_variance > 0.0, !step_.corrected);
+    step_.audited = arm.has_value();
+    if (arm) step_.corrected = *arm;
+  }
+
+  // The audit's arm for an assembly whose estimate would be applied: nothing where the estimate
+  // is not in doubt (no erring model, no misfit) or the audit is off; otherwise whether the
+  // correction is applied (false for one held back by harmful(), which is not counted).
+  [[nodiscard]] std::optional<bool> audit_decision(bool erring_model, bool held_back) {
     const bool doubtful = erring_model || estimator_.prediction_scale() >= options_.audit_misfit;
-    if (!quadratic_ || !doubtful || !wanted || options_.audit_period <= 0) return;
-    step_.audited = true;
-    if (!step_.corrected) return;  // held back by harmful(): an uncorrected sample all the same
+    if (!doubtful || options_.audit_period <= 0) return std::nullopt;
+    if (held_back) return false;  // an uncorrected sample all the same
     ++audits_;
     const std::optional<std::array<double, 2>> means = audit_means();
-    if (!means && !erring_model) {
-      step_.corrected = audits_ % 2 == 1;
-      return;
-    }
+    if (!means && !erring_model) return audits_ % 2 == 1;
     const bool helps = !means || (*means)[1] <= (*means)[0];
     // A correction that at least halves the regret is audited four times less often.
     const bool clear = means && (*means)[1] <= 0.5 * (*means)[0];
     const auto period = static_cast<std::uint64_t>(options_.audit_period * (clear ? 4 : 1));
     const bool flip = audits_ % period == 0;
-    step_.corrected = helps != flip;
+    return helps != flip;
   }
 
   // The mean relative regrets, uncorrected [0] and corrected [1], over the kept pairs — an
@@ -912,6 +931,7 @@ class ActiveCalibrationController {
   Index assemblies_ = 0;
   Index time_ = 0;  // the assembly of the pending proposal
   bool restarted_ = false;
+  std::optional<bool> audited_arm_;  // fit_at_audited_arm: the arm picked before the fit
   Index retry_at_ = 0;
   ProposalReport report_;
   ActiveStepReport step_;

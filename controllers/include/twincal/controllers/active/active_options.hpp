@@ -118,6 +118,17 @@ struct ActiveOptions {
   /// 2026-11-27 (the fit's own residual scale, which cannot speak at d ≥ 12), 1.15 / 1.29 × now
   /// (docs/reproduction.md, "Twin ≠ plant").
   double audit_misfit = 4.0;
+  /// Where the audit leaves an assembly uncorrected, the plant is δû away from the corrected
+  /// point at which the assembly's model is fitted (u0), and a model of a twin whose Q² is not a
+  /// quadratic holds only near its centre. true: the audit picks its arm before the fit, from
+  /// whether the last assembly's model erred, and the model is fitted where that arm puts the
+  /// plant (u0 − δû uncorrected). Measured on 2026-11-28 (docs/reproduction.md, "Black-box
+  /// twins"): over the 60 development cells the sum of the ratios to the baseline 11.26 → 9.94
+  /// and lost runs 29 → 18, held-out seed pairs about the same (4.52 → 4.30, 13 → 11 lost), but
+  /// the held-out soft stop at d = 3 about 0.27 → 0.61 × the baseline (lost 6 → 19 of 40): the
+  /// off-centre models' large innovations restart the estimator after a drift turns, which the
+  /// soft stop relies on. Off by default for that.
+  bool fit_at_audited_arm = false;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     return first_problem(
