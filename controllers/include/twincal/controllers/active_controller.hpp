@@ -207,8 +207,9 @@ class ActiveCalibrationController {
       // twin-frame control u − δû without the probe, inside the box (for a twin whose Q² is a
       // quadratic, anywhere is the same).
       if (estimator_.fit_time() != time_) estimator_.fit(time_);
-      bool correct = (estimator_.significant() || restarted_) && !harmful();
-      if (options_.fit_at_audited_arm && (estimator_.significant() || restarted_)) {
+      const bool wanted = estimator_.significant() || restarted_;
+      bool correct = wanted && !harmful();
+      if (options_.fit_at_audited_arm && wanted) {
         // The audit picks its arm now, from the last assembly's model, and the model is fitted
         // where that arm puts the plant.
         audited_arm_ = audit_decision(last_model_erred, !correct);

@@ -170,11 +170,8 @@ class QuadraticSurrogate {
     require_dimension("center", center.size(), d);
     require_shape("hessian", hessian, d, d);
     if (uses_deviations()) return fit_from_deviations(assembly, center, model);
-    const Index count = gradient_fit_evaluations();
-    auto points = points_.leftCols(count);
-    points.colwise() = center;
-    for (Index i = 0; i < d; ++i) points(i, 1 + i) += steps_(i);
-    evaluate_squares(assembly, points, values_.head(count));
+    const Index count = d + 1;
+    evaluate_squares(assembly, axis_stencil(center, false), values_.head(count));
     model.center = center;
     model.value = values_(0);
     model.half_gradient.resize(d);
@@ -244,10 +241,9 @@ class QuadraticSurrogate {
     const Index d = dimension();
     const Index count = full ? full_fit_evaluations() : gradient_fit_evaluations();
     auto points = points_.leftCols(count);
-    points.colwise() = center;
-    for (Index i = 0; i < d; ++i) points(i, 1 + i) += steps_(i);
+    axis_stencil(center, full);
     if (full) {
-      for (Index i = 0; i < d; ++i) points(i, 1 + d + i) -= steps_(i);
+      points.rightCols(count - 1 - 2 * d).colwise() = center;
       Index column = 1 + 2 * d;
       for (Index i = 0; i < d; ++i) {
         for (Index j = i + 1; j < d; ++j, ++column) {
@@ -292,13 +288,9 @@ class QuadraticSurrogate {
                                     QuadraticModel<N>& model) {
     const Index d = dimension();
     const Index count = 2 * d + 1;
-    auto points = points_.leftCols(count);
-    points.colwise() = center;
-    for (Index i = 0; i < d; ++i) {
-      points(i, 1 + i) += steps_(i);
-      points(i, 1 + d + i) -= steps_(i);
+    if constexpr (TwinWithDeviations<T>) {
+      twin_->deviations_batch(assembly, axis_stencil(center, true), deviations_);
     }
-    if constexpr (TwinWithDeviations<T>) twin_->deviations_batch(assembly, points, deviations_);
     require_finite_deviations(count);
     const double m = static_cast<double>(deviations_.rows());
     for (Index i = 0; i < d; ++i) {
@@ -347,6 +339,21 @@ class QuadraticSurrogate {
                                          c, k, deviations_(k, c)));
       }
     }
+  }
+
+  // The first columns of points_: v0, v0 + h_i e_i and, two-sided, v0 − h_i e_i (d + 1 or
+  // 2d + 1 columns; the fits' stencils all begin with these).
+  Eigen::Block<MatrixX, Dynamic, Dynamic, true> axis_stencil(const Vector<N>& center,
+                                                             bool two_sided) {
+    const Index d = dimension();
+    Eigen::Block<MatrixX, Dynamic, Dynamic, true> points =
+        points_.leftCols(two_sided ? 2 * d + 1 : d + 1);
+    points.colwise() = center;
+    for (Index i = 0; i < d; ++i) {
+      points(i, 1 + i) += steps_(i);
+      if (two_sided) points(i, 1 + d + i) -= steps_(i);
+    }
+    return points;
   }
 
   // g from Q² at v0 and v0 + h_i e_i (values_) with H known: one-sided differences corrected
