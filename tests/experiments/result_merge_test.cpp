@@ -5,6 +5,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -12,6 +13,7 @@
 
 #include "results_files.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/experiments/build_id.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
 #include "twincal/experiments/result_store.hpp"
 
@@ -42,8 +44,8 @@ std::vector<ExperimentGroup> merge_study(Index runs = 2) {
 }
 
 void run_into(const fs::path& directory, const std::vector<ExperimentGroup>& groups,
-              StudyShard shard = {}) {
-  ResultStore store(directory);
+              StudyShard shard = {}, std::string build = std::string(build_id())) {
+  ResultStore store(directory, std::move(build));
   (void)run_experiments(groups, store, {.threads = 2, .progress = false, .shard = shard});
 }
 
@@ -143,6 +145,21 @@ TEST(MergeResults, RefusesShardsOfAnotherStudyAndAnOutputThatHoldsResults) {
   } catch (const InvalidArgumentError& error) {
     EXPECT_THAT(error.what(), HasSubstr("already holds results"));
   }
+}
+
+TEST(MergeResults, RefusesShardsOfAnotherBuild) {
+  const fs::path root = merge_scratch("builds");
+  run_into(root / "a", merge_study(), {.index = 0, .count = 2}, "build one");
+  run_into(root / "b", merge_study(), {.index = 1, .count = 2}, "build two");
+  try {
+    (void)merge_results(std::vector{root / "a", root / "b"}, root / "merged");
+    ADD_FAILURE() << "shards of two builds were merged";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("another twincal build"));
+    EXPECT_THAT(error.what(), HasSubstr("\"build one\""));
+    EXPECT_THAT(error.what(), HasSubstr("\"build two\""));
+  }
+  EXPECT_FALSE(fs::exists(root / "merged"));
 }
 
 TEST(MergeResults, RefusesTwoCopiesOfAnEpisodeThatDisagree) {

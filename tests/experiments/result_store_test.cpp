@@ -112,6 +112,54 @@ TEST_F(ResultStoreOfAnalyticGroup, DropsTheRowsOfAnEpisodeWithoutRecordAndATornR
   EXPECT_EQ(store_lines(dir_ / ResultStore::episodes_name), 1);
 }
 
+TEST_F(ResultStoreOfAnalyticGroup, RecordsItsBuildAndResumesAGroupOnlyWithIt) {
+  {
+    ResultStore store(dir_, "build one");
+    store.add_group(group_, twin_);
+    store.append(run_episode(twin_, group_.config, ControllerSpec::baseline(), 0));
+    store.write_summary();
+  }
+  {
+    ResultStore same(dir_, "build one");
+    same.add_group(group_, twin_);  // resumes
+    ASSERT_EQ(same.groups().size(), 1U);
+    EXPECT_EQ(same.groups()[0].at("build"), "build one");
+  }
+  ResultStore other(dir_, "build two");
+  try {
+    other.add_group(group_, twin_);
+    ADD_FAILURE() << "another build resumed the group";
+  } catch (const InvalidArgumentError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("group \"analytic/B\""), std::string::npos) << message;
+    EXPECT_NE(message.find("build \"build one\", this is build \"build two\""), std::string::npos)
+        << message;
+    EXPECT_EQ(error.argument(), "build");
+  }
+  EXPECT_EQ(other.groups()[0].at("build"), "build one");  // unchanged
+  // Another group in the same directory is recorded with the new build.
+  ExperimentGroup second = group_;
+  second.config.locators = "A";
+  other.add_group(second, make_case_twin(second.config));
+  EXPECT_EQ(other.groups()[1].at("build"), "build two");
+}
+
+TEST_F(ResultStoreOfAnalyticGroup, ResumesAGroupStoredWithoutABuild) {
+  {
+    ResultStore store(dir_, "build one");
+    store.add_group(group_, twin_);
+    store.write_summary();
+  }
+  // As a twincal from before 2026-11-28 wrote it.
+  nlohmann::json summary;
+  std::ifstream(dir_ / ResultStore::summary_name) >> summary;
+  summary.at("groups")[0].erase("build");
+  std::ofstream(dir_ / ResultStore::summary_name, std::ios::trunc) << summary.dump();
+  ResultStore other(dir_, "build two");
+  EXPECT_NO_THROW(other.add_group(group_, twin_));
+  EXPECT_FALSE(other.groups()[0].contains("build"));
+}
+
 TEST(ResultStore, RefusesAForeignSummary) {
   const fs::path dir = store_scratch("foreign");
   fs::create_directories(dir);

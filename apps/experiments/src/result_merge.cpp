@@ -35,6 +35,13 @@ struct Shard {
   std::map<Key, StoredEpisode> episodes;
 };
 
+// The groups without the builds that ran them (merge tells a build that differs from settings
+// that do).
+json without_builds(json groups) {
+  for (json& group : groups) group.erase("build");
+  return groups;
+}
+
 Shard read_shard(const fs::path& directory, std::size_t number) {
   const fs::path summary_path = directory / ResultStore::summary_name;
   if (!fs::exists(summary_path)) {
@@ -113,6 +120,17 @@ MergeReport merge_results(std::span<const fs::path> shards, const fs::path& out)
   std::vector<Shard> read;
   for (std::size_t s = 0; s < shards.size(); ++s) {
     read.push_back(read_shard(shards[s], s));
+    if (read[s].groups != read[0].groups &&
+        without_builds(read[s].groups) == without_builds(read[0].groups)) {
+      throw InvalidArgumentError(
+          "shards", fmt::format("shards: \"{}\" was run by another twincal build than \"{}\" "
+                                "({} against {}); rule: the shards of a merge are one build's "
+                                "episodes (build twincal from one commit, unchanged, for every "
+                                "shard)",
+                                shards[s].string(), shards[0].string(),
+                                read[s].groups.front().value("build", json()).dump(),
+                                read[0].groups.front().value("build", json()).dump()));
+    }
     if (read[s].groups != read[0].groups) {
       throw InvalidArgumentError(
           "shards", fmt::format("shards: \"{}\" was run with other groups or settings than "

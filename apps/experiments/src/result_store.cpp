@@ -81,7 +81,8 @@ json episode_metrics_json(const EpisodeResult& result) {
               {"lost", result.lost}};
 }
 
-ResultStore::ResultStore(fs::path directory) : directory_(std::move(directory)) {
+ResultStore::ResultStore(fs::path directory, std::string build)
+    : directory_(std::move(directory)), build_(std::move(build)) {
   std::error_code error;
   fs::create_directories(directory_, error);
   if (error) throw file_error(directory_, fmt::format("cannot be created ({})", error.message()));
@@ -199,6 +200,15 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
                       "or another group name",
                       name, directory_.string(), differences));
     }
+    if (stored.contains("build") && stored.at("build") != build_) {
+      throw InvalidArgumentError(
+          "build",
+          fmt::format("build: group \"{}\" in {} was run by twincal build {}, this is build {}; "
+                      "rule: a results directory holds one build's episodes per group (a rebuilt "
+                      "twincal may compute other episodes from the same settings) — use another "
+                      "--out or another group name",
+                      name, directory_.string(), stored.at("build").dump(), json(build_).dump()));
+    }
     // Same episodes: let the study grow by runs and controllers.
     previous.runs = std::max(previous.runs, config.runs);
     for (const ControllerSpec& spec : config.controllers) {
@@ -216,8 +226,11 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
   twin_json["quadratic_departure"] = config.twin_case == TwinCase::external
                                          ? json(nullptr)
                                          : json(median_quadratic_departure(twin));
-  groups_.push_back(
-      json{{"name", name}, {"config", config}, {"tags", group.tags}, {"twin", twin_json}});
+  groups_.push_back(json{{"name", name},
+                         {"config", config},
+                         {"tags", group.tags},
+                         {"twin", twin_json},
+                         {"build", build_}});
 }
 
 bool ResultStore::contains(const std::string& group, const std::string& controller,

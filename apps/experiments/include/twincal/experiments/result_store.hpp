@@ -10,8 +10,9 @@
 ///   rewritten by write_summary().
 /// On opening, an episode without its episodes.jsonl line (a run killed while writing) is
 /// dropped from assemblies.csv, so a rerun redoes exactly the unfinished episodes. A group that
-/// is already stored must have the same episode-defining config (episode_defining_json); its
-/// runs and controllers may grow.
+/// is already stored must have the same episode-defining config (episode_defining_json) and have
+/// been run by the same build (build_id(): a rebuilt twincal may compute other episodes from the
+/// same settings); its runs and controllers may grow.
 
 #include <filesystem>
 #include <fstream>
@@ -25,6 +26,7 @@
 
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/experiments/build_id.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/experiments/episode_result.hpp"
 #include "twincal/experiments/experiment_group.hpp"
@@ -40,15 +42,18 @@ class ResultStore {
   static constexpr const char* episodes_name = "episodes.jsonl";
   static constexpr const char* summary_name = "summary.json";
 
-  /// Opens (creating it if needed) `directory` and loads what it holds.
+  /// Opens (creating it if needed) `directory` and loads what it holds; the groups it adds are
+  /// recorded as run by `build` (twincal/experiments/build_id.hpp; a test may name another).
   /// @throws Error when a file cannot be read or written or summary.json is not ours.
-  explicit ResultStore(std::filesystem::path directory);
+  explicit ResultStore(std::filesystem::path directory,
+                       std::string build = std::string(build_id()));
 
   [[nodiscard]] const std::filesystem::path& directory() const noexcept { return directory_; }
 
-  /// Registers a group run on `twin` (its resolved locators are recorded), or checks it against
-  /// the stored one and extends its runs and controllers.
-  /// @throws InvalidArgumentError naming the group and the settings that differ.
+  /// Registers a group run on `twin` (its resolved locators and the build are recorded), or
+  /// checks it against the stored one and extends its runs and controllers. A group stored
+  /// without a build (by a twincal before 2026-11-28) is not checked for one.
+  /// @throws InvalidArgumentError naming the group and the settings that differ, or both builds.
   void add_group(const ExperimentGroup& group, const CaseTwin& twin);
 
   [[nodiscard]] bool contains(const std::string& group, const std::string& controller,
@@ -60,7 +65,7 @@ class ResultStore {
   /// Rewrites summary.json (atomically: a temporary file renamed over it).
   void write_summary() const;
 
-  /// The groups in registration order: {"name", "config", "tags", "twin"}.
+  /// The groups in registration order: {"name", "config", "tags", "twin", "build"}.
   [[nodiscard]] const nlohmann::json& groups() const noexcept { return groups_; }
   /// The finished episodes' metrics in the order they were stored.
   [[nodiscard]] const std::vector<nlohmann::json>& episodes() const noexcept { return episodes_; }
@@ -72,6 +77,7 @@ class ResultStore {
   void reconcile_csv();
 
   std::filesystem::path directory_;
+  std::string build_;
   nlohmann::json groups_ = nlohmann::json::array();
   std::vector<nlohmann::json> episodes_;
   std::set<Key> done_;
