@@ -4,7 +4,8 @@
 # w-controllers × 10 seeded runs of 100 assemblies — then draw its figures and print the summary.
 #   ./scripts/run.sh [results-dir] [twincal paper options, e.g. --runs 3 --seed 7]
 # Results (CSV, JSON) and figures (PNG, SVG, Table 1) go to results-dir (default results/paper);
-# rerunning resumes: finished episodes are kept, not recomputed.
+# rerunning resumes: finished episodes are kept, not recomputed — by the same build only (a
+# twincal rebuilt from other code stops and says so: give another results-dir, or remove it).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
