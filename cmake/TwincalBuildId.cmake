@@ -1,60 +1,82 @@
-# Run at every build (cmake -P, from core/CMakeLists.txt): writes OUTPUT, the C++ string literal
-# of the build's identity — the commit, a hash of the uncommitted changes to anything but the
-# docs (new files included), the compiler and the build type — and leaves it untouched while that is unchanged, so
-# only core's build_id.cpp recompiles when it changes. Without git (a source tarball) the commit
-# is "unknown".
+# Run at every build (cmake -P, from apps/experiments/CMakeLists.txt): writes OUTPUT, the C++
+# definitions of build_id() and build_commit() (twincal/experiments/build_id.hpp), and leaves it
+# untouched while they are unchanged, so only src/build_id.cpp recompiles when they change.
+# - The id: a hash of the sources — every file git tracks at HEAD but the docs, the uncommitted
+#   changes to them and the new files git does not ignore — with the compiler and the build
+#   type. A commit that changes only the docs keeps it.
+# - The commit: HEAD's (12 hex digits), "+changes" with uncommitted changes to the sources.
+# Outside a git checkout of SOURCE_DIR (a source tarball) both say "unknown".
 # Inputs: SOURCE_DIR, OUTPUT, COMPILER, BUILD_TYPE.
 cmake_minimum_required(VERSION 3.25)
+# The build must not take the index lock a user's git command may need at the same moment.
+set(ENV{GIT_OPTIONAL_LOCKS} 0)
+
+function(run_git out_var)
+  execute_process(COMMAND git -C "${SOURCE_DIR}" ${ARGN}
+                  OUTPUT_VARIABLE out RESULT_VARIABLE status ERROR_QUIET)
+  if(NOT status EQUAL 0)
+    set(git_failed TRUE PARENT_SCOPE)
+  endif()
+  set(${out_var} "${out}" PARENT_SCOPE)
+endfunction()
+
+set(git_failed FALSE)
+set(sources "")
 # Only the sources' own checkout counts: a tarball unpacked inside another repository is not it.
-execute_process(
-  COMMAND git -C "${SOURCE_DIR}" rev-parse --show-toplevel --short=12 HEAD
-  OUTPUT_VARIABLE lines RESULT_VARIABLE status OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-set(commit "")
-if(status EQUAL 0)
-  string(REPLACE "\n" ";" lines "${lines}")
-  list(GET lines 0 toplevel)
-  list(GET lines -1 commit)
+run_git(toplevel rev-parse --show-toplevel)
+string(STRIP "${toplevel}" toplevel)
+if(NOT git_failed)
   file(REAL_PATH "${SOURCE_DIR}" source_path)
   file(REAL_PATH "${toplevel}" toplevel)
   if(NOT toplevel STREQUAL source_path)
-    set(commit "")
+    set(git_failed TRUE)
   endif()
 endif()
-if(commit STREQUAL "")
-  set(source "unknown")
+if(NOT git_failed)
+  set(pathspec -- . ":(exclude)docs" ":(exclude)*.md")
+  run_git(commit rev-parse --short=12 HEAD)
+  run_git(changes diff HEAD --no-ext-diff --stat ${pathspec})
+  run_git(untracked ls-files --others --exclude-standard ${pathspec})
+  # The tracked files as they are: a commit of the working tree made without touching anything
+  # (none when nothing changed), listed blob by blob, the docs left out.
+  run_git(working -c user.name=twincal -c user.email=build@twincal.invalid stash create)
+  string(STRIP "${working}" working)
+  if(working STREQUAL "")
+    set(working HEAD)
+  endif()
+  run_git(tree ls-tree -r "${working}")
+  string(REGEX REPLACE "[^\n]*\tdocs/[^\n]*\n" "" tree "${tree}")
+  string(REGEX REPLACE "[^\n]*\t[^\n]*\\.md\n" "" tree "${tree}")
+endif()
+if(git_failed)
+  set(id "unknown sources")
+  set(commit "unknown")
 else()
-  # The docs do not change what a build computes; every other tracked file may.
-  execute_process(
-    COMMAND git -C "${SOURCE_DIR}" diff HEAD --no-ext-diff --binary -- .
-            ":(exclude)docs" ":(exclude)*.md"
-    OUTPUT_VARIABLE changes RESULT_VARIABLE status ERROR_QUIET)
-  # New files git does not track yet (and does not ignore) count as changes too.
-  execute_process(
-    COMMAND git -C "${SOURCE_DIR}" ls-files --others --exclude-standard -- .
-            ":(exclude)docs" ":(exclude)*.md"
-    OUTPUT_VARIABLE untracked RESULT_VARIABLE untracked_status
-    OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-  if(untracked_status EQUAL 0 AND NOT untracked STREQUAL "")
+  string(STRIP "${commit}" commit)
+  string(STRIP "${untracked}" untracked)
+  set(new_files "")
+  if(NOT untracked STREQUAL "")
     string(REPLACE "\n" ";" untracked "${untracked}")
     foreach(file IN LISTS untracked)
       if(EXISTS "${SOURCE_DIR}/${file}" AND NOT IS_DIRECTORY "${SOURCE_DIR}/${file}")
         file(SHA1 "${SOURCE_DIR}/${file}" file_hash)
-        string(APPEND changes "${file} ${file_hash}\n")
+        string(APPEND new_files "${file} ${file_hash}\n")
       endif()
     endforeach()
   endif()
-  if(NOT status EQUAL 0)
-    set(source "${commit}+unknown")
-  elseif(changes STREQUAL "")
-    set(source "${commit}")
-  else()
-    string(SHA1 hash "${changes}")
-    string(SUBSTRING "${hash}" 0 12 hash)
-    set(source "${commit}+${hash}")
+  string(SHA1 hash "${tree}${new_files}")
+  string(SUBSTRING "${hash}" 0 12 hash)
+  set(id "sources ${hash}")
+  if(NOT changes STREQUAL "" OR NOT new_files STREQUAL "")
+    string(APPEND commit "+changes")
   endif()
 endif()
 if(BUILD_TYPE STREQUAL "")
   set(BUILD_TYPE "no build type")
 endif()
-set(TWINCAL_BUILD_ID "${source} (${COMPILER}, ${BUILD_TYPE})")
-file(CONFIGURE OUTPUT "${OUTPUT}" CONTENT "\"@TWINCAL_BUILD_ID@\"\n" @ONLY)
+set(TWINCAL_BUILD_ID "${id} (${COMPILER}, ${BUILD_TYPE})")
+set(TWINCAL_BUILD_COMMIT "${commit}")
+file(CONFIGURE OUTPUT "${OUTPUT}" CONTENT
+"constexpr std::string_view generated_build_id = \"@TWINCAL_BUILD_ID@\";
+constexpr std::string_view generated_build_commit = \"@TWINCAL_BUILD_COMMIT@\";
+" @ONLY)

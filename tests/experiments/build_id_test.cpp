@@ -8,13 +8,18 @@
 namespace twincal {
 namespace {
 
-TEST(BuildId, NamesTheCommitItsChangesTheCompilerAndTheBuildType) {
+TEST(BuildId, NamesTheSourcesTheCompilerAndTheBuildType) {
   const std::string id(build_id());
-  // "unknown" outside a git checkout; the changes' hash only with uncommitted changes.
-  static const std::regex form(
-      R"((unknown|[0-9a-f]{12}(\+([0-9a-f]{12}|unknown))?) \(.+ .+, .+\))");
+  static const std::regex form(R"((sources [0-9a-f]{12}|unknown sources) \(.+ .+, .+\))");
   EXPECT_TRUE(std::regex_match(id, form)) << id;
   EXPECT_EQ(build_id().data(), build_id().data());  // one string for the process
+}
+
+TEST(BuildId, NamesTheCommit) {
+  const std::string commit(build_commit());
+  static const std::regex form(R"([0-9a-f]{12}(\+changes)?|unknown)");
+  EXPECT_TRUE(std::regex_match(commit, form)) << commit;
+  EXPECT_EQ(commit == "unknown", std::string(build_id()).starts_with("unknown"));
 }
 
 }  // namespace

@@ -44,8 +44,9 @@ std::vector<ExperimentGroup> merge_study(Index runs = 2) {
 }
 
 void run_into(const fs::path& directory, const std::vector<ExperimentGroup>& groups,
-              StudyShard shard = {}, std::string build = std::string(build_id())) {
-  ResultStore store(directory, std::move(build));
+              StudyShard shard = {}, std::string build = std::string(build_id()),
+              std::string commit = std::string(build_commit())) {
+  ResultStore store(directory, std::move(build), std::move(commit));
   (void)run_experiments(groups, store, {.threads = 2, .progress = false, .shard = shard});
 }
 
@@ -160,6 +161,9 @@ TEST(MergeResults, RefusesShardsOfAnotherBuild) {
     EXPECT_THAT(error.what(), HasSubstr("\"build two\""));
   }
   EXPECT_FALSE(fs::exists(root / "merged"));
+  // One build from two commits (one changed only the docs) is one build.
+  run_into(root / "c", merge_study(), {.index = 1, .count = 2}, "build one", "another commit");
+  EXPECT_NO_THROW((void)merge_results(std::vector{root / "a", root / "c"}, root / "merged"));
 }
 
 TEST(MergeResults, RefusesTwoCopiesOfAnEpisodeThatDisagree) {

@@ -114,16 +114,18 @@ TEST_F(ResultStoreOfAnalyticGroup, DropsTheRowsOfAnEpisodeWithoutRecordAndATornR
 
 TEST_F(ResultStoreOfAnalyticGroup, RecordsItsBuildAndResumesAGroupOnlyWithIt) {
   {
-    ResultStore store(dir_, "build one");
+    ResultStore store(dir_, "build one", "commit one");
     store.add_group(group_, twin_);
     store.append(run_episode(twin_, group_.config, ControllerSpec::baseline(), 0));
     store.write_summary();
   }
   {
-    ResultStore same(dir_, "build one");
-    same.add_group(group_, twin_);  // resumes
+    // The same build from another commit (one that changed only the docs) resumes it.
+    ResultStore same(dir_, "build one", "commit two");
+    same.add_group(group_, twin_);
     ASSERT_EQ(same.groups().size(), 1U);
     EXPECT_EQ(same.groups()[0].at("build"), "build one");
+    EXPECT_EQ(same.groups()[0].at("commit"), "commit one");
   }
   ResultStore other(dir_, "build two");
   try {

@@ -1,13 +1,16 @@
 #include "twincal/experiments/build_id.hpp"
 
 namespace twincal {
+namespace {
 
-std::string_view build_id() noexcept {
-  // Generated at build time by cmake/TwincalBuildId.cmake.
-  static constexpr std::string_view id =
+// generated_build_id and generated_build_commit, written at build time by
+// cmake/TwincalBuildId.cmake.
 #include "twincal_build_id.inc"
-      ;
-  return id;
-}
+
+}  // namespace
+
+std::string_view build_id() noexcept { return generated_build_id; }
+
+std::string_view build_commit() noexcept { return generated_build_commit; }
 
 }  // namespace twincal

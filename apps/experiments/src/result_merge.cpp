@@ -35,11 +35,20 @@ struct Shard {
   std::map<Key, StoredEpisode> episodes;
 };
 
-// The groups without the builds that ran them (merge tells a build that differs from settings
-// that do).
+// The groups without the builds that ran them and their commits (merge tells a build that
+// differs from settings that do; commits that differ only in the docs are one build).
 json without_builds(json groups) {
-  for (json& group : groups) group.erase("build");
+  for (json& group : groups) {
+    group.erase("build");
+    group.erase("commit");
+  }
   return groups;
+}
+
+json builds(const json& groups) {
+  json out = json::array();
+  for (const json& group : groups) out.push_back(group.value("build", json()));
+  return out;
 }
 
 Shard read_shard(const fs::path& directory, std::size_t number) {
@@ -120,23 +129,20 @@ MergeReport merge_results(std::span<const fs::path> shards, const fs::path& out)
   std::vector<Shard> read;
   for (std::size_t s = 0; s < shards.size(); ++s) {
     read.push_back(read_shard(shards[s], s));
-    if (read[s].groups != read[0].groups &&
-        without_builds(read[s].groups) == without_builds(read[0].groups)) {
-      throw InvalidArgumentError(
-          "shards", fmt::format("shards: \"{}\" was run by another twincal build than \"{}\" "
-                                "({} against {}); rule: the shards of a merge are one build's "
-                                "episodes (build twincal from one commit, unchanged, for every "
-                                "shard)",
-                                shards[s].string(), shards[0].string(),
-                                read[s].groups.front().value("build", json()).dump(),
-                                read[0].groups.front().value("build", json()).dump()));
-    }
-    if (read[s].groups != read[0].groups) {
+    if (without_builds(read[s].groups) != without_builds(read[0].groups)) {
       throw InvalidArgumentError(
           "shards", fmt::format("shards: \"{}\" was run with other groups or settings than "
                                 "\"{}\"; rule: the shards of a merge are one study (the same "
                                 "command with --shard i/N)",
                                 shards[s].string(), shards[0].string()));
+    }
+    if (builds(read[s].groups) != builds(read[0].groups)) {
+      throw InvalidArgumentError(
+          "shards", fmt::format("shards: \"{}\" was run by another twincal build than \"{}\" "
+                                "({} against {}); rule: the shards of a merge are one build's "
+                                "episodes (build every shard's twincal from the same sources)",
+                                shards[s].string(), shards[0].string(),
+                                builds(read[s].groups).dump(), builds(read[0].groups).dump()));
     }
     if (read[s].csv_header != read[0].csv_header) {
       throw file_error(shards[s] / ResultStore::csv_name,

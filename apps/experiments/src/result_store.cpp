@@ -81,8 +81,8 @@ json episode_metrics_json(const EpisodeResult& result) {
               {"lost", result.lost}};
 }
 
-ResultStore::ResultStore(fs::path directory, std::string build)
-    : directory_(std::move(directory)), build_(std::move(build)) {
+ResultStore::ResultStore(fs::path directory, std::string build, std::string commit)
+    : directory_(std::move(directory)), build_(std::move(build)), commit_(std::move(commit)) {
   std::error_code error;
   fs::create_directories(directory_, error);
   if (error) throw file_error(directory_, fmt::format("cannot be created ({})", error.message()));
@@ -230,7 +230,8 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
                          {"config", config},
                          {"tags", group.tags},
                          {"twin", twin_json},
-                         {"build", build_}});
+                         {"build", build_},
+                         {"commit", commit_}});
 }
 
 bool ResultStore::contains(const std::string& group, const std::string& controller,

@@ -43,16 +43,18 @@ class ResultStore {
   static constexpr const char* summary_name = "summary.json";
 
   /// Opens (creating it if needed) `directory` and loads what it holds; the groups it adds are
-  /// recorded as run by `build` (twincal/experiments/build_id.hpp; a test may name another).
+  /// recorded as run by `build` from `commit` (twincal/experiments/build_id.hpp; a test may name
+  /// others).
   /// @throws Error when a file cannot be read or written or summary.json is not ours.
-  explicit ResultStore(std::filesystem::path directory,
-                       std::string build = std::string(build_id()));
+  explicit ResultStore(std::filesystem::path directory, std::string build = std::string(build_id()),
+                       std::string commit = std::string(build_commit()));
 
   [[nodiscard]] const std::filesystem::path& directory() const noexcept { return directory_; }
 
-  /// Registers a group run on `twin` (its resolved locators and the build are recorded), or
-  /// checks it against the stored one and extends its runs and controllers. A group stored
-  /// without a build (by a twincal before 2026-11-28) is not checked for one.
+  /// Registers a group run on `twin` (its resolved locators, the build and its commit are
+  /// recorded), or checks it against the stored one (settings and build; the commit may differ
+  /// where only the docs changed) and extends its runs and controllers. A group stored without a
+  /// build (by a twincal before 2026-11-28) is not checked for one.
   /// @throws InvalidArgumentError naming the group and the settings that differ, or both builds.
   void add_group(const ExperimentGroup& group, const CaseTwin& twin);
 
@@ -65,7 +67,7 @@ class ResultStore {
   /// Rewrites summary.json (atomically: a temporary file renamed over it).
   void write_summary() const;
 
-  /// The groups in registration order: {"name", "config", "tags", "twin", "build"}.
+  /// The groups in registration order: {"name", "config", "tags", "twin", "build", "commit"}.
   [[nodiscard]] const nlohmann::json& groups() const noexcept { return groups_; }
   /// The finished episodes' metrics in the order they were stored.
   [[nodiscard]] const std::vector<nlohmann::json>& episodes() const noexcept { return episodes_; }
@@ -78,6 +80,7 @@ class ResultStore {
 
   std::filesystem::path directory_;
   std::string build_;
+  std::string commit_;
   nlohmann::json groups_ = nlohmann::json::array();
   std::vector<nlohmann::json> episodes_;
   std::set<Key> done_;
