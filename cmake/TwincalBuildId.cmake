@@ -1,9 +1,9 @@
 # Run at every build (cmake -P, from apps/experiments/CMakeLists.txt): writes OUTPUT, the C++
 # definitions of build_id() and build_commit() (twincal/experiments/build_id.hpp), and leaves it
 # untouched while they are unchanged, so only src/build_id.cpp recompiles when they change.
-# - The id: a hash of the sources — every file git tracks at HEAD but the docs, the uncommitted
-#   changes to them and the new files git does not ignore — with the compiler and the build
-#   type. A commit that changes only the docs keeps it.
+# - The id: a hash of the sources — every file git tracks but the docs, tests, benchmarks, fuzz
+#   targets and CI scripts, as they are in the working tree, and the new files git does not
+#   ignore — with the compiler and the build type. A commit that changes only those keeps it.
 # - The commit: HEAD's (12 hex digits), "+changes" with uncommitted changes to the sources.
 # Outside a git checkout of SOURCE_DIR (a source tarball) both say "unknown".
 # Inputs: SOURCE_DIR, OUTPUT, COMPILER, BUILD_TYPE.
@@ -33,7 +33,10 @@ if(NOT git_failed)
   endif()
 endif()
 if(NOT git_failed)
-  set(pathspec -- . ":(exclude)docs" ":(exclude)*.md")
+  # What cannot change what a build computes: the docs, and the tests, benchmarks, fuzz targets
+  # and CI scripts, which are not part of the libraries or programs.
+  set(pathspec -- . ":(exclude)docs" ":(exclude)*.md" ":(exclude)tests" ":(exclude)benchmarks"
+               ":(exclude)fuzz" ":(exclude).ci")
   run_git(commit rev-parse --short=12 HEAD)
   run_git(changes diff HEAD --no-ext-diff --stat ${pathspec})
   run_git(untracked ls-files --others --exclude-standard ${pathspec})
@@ -45,7 +48,7 @@ if(NOT git_failed)
     set(working HEAD)
   endif()
   run_git(tree ls-tree -r "${working}")
-  string(REGEX REPLACE "[^\n]*\tdocs/[^\n]*\n" "" tree "${tree}")
+  string(REGEX REPLACE "[^\n]*\t(docs|tests|benchmarks|fuzz|\\.ci)/[^\n]*\n" "" tree "${tree}")
   string(REGEX REPLACE "[^\n]*\t[^\n]*\\.md\n" "" tree "${tree}")
 endif()
 if(git_failed)
