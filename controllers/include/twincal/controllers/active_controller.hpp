@@ -57,6 +57,7 @@
 
 #include "twincal/controllers/active/active_options.hpp"
 #include "twincal/controllers/active/constant_velocity_estimator.hpp"
+#include "twincal/controllers/active/do_no_harm_audit.hpp"
 #include "twincal/controllers/active/probe_design.hpp"
 #include "twincal/controllers/active/quadratic_model.hpp"
 #include "twincal/controllers/active/quadratic_surrogate.hpp"
@@ -130,6 +131,7 @@ class ActiveCalibrationController {
         scheme_(std::move(scheme)),
         estimator_(twin.upper_bounds() - twin.lower_bounds(), options_.measurement_variance,
                    options_.trajectory),
+        audit_(options_.audit_period, options_.audit_window),
         covariance_eigen_(twin.control_dimension()) {
     const Index d = twin.control_dimension();
     if constexpr (N != Dynamic) require_dimension("twin.control_dimension()", d, N);
@@ -164,8 +166,6 @@ class ActiveCalibrationController {
       kept_times_.assign(kept, -1);
       candidates_.reserve(kept);
     }
-    for (auto& ring : regrets_) ring.assign(static_cast<std::size_t>(options_.audit_window), 0.0);
-    pair_regrets_ = regrets_;
     entry_point_.resize(d);
     entry_offset_.resize(d);
     const Index m = scheme_.num_points(d);
@@ -346,38 +346,29 @@ class ActiveCalibrationController {
   [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
     using json_state::doubles_to_json;
     using json_state::number_to_json;
-    nlohmann::json saved{
-        {"format", json_format},
-        {"dimension", dimension()},
-        {"mean", doubles_to_json(mean_)},
-        {"covariance", json_state::matrix_to_json(covariance_)},
-        {"process_variance", number_to_json(process_variance_)},
-        {"assemblies", assemblies_},
-        {"time", time_},
-        {"retry_at", retry_at_},
-        {"restarted", restarted_},
-        {"quadratic", quadratic_},
-        {"pending", pending_},
-        {"control", doubles_to_json(control_)},
-        {"model", json_state::model_to_json(model_)},
-        {"recent_innovations", doubles_to_json(recent_innovations_)},
-        {"innovation_count", innovation_count_},
-        {"plant_regrets", doubles_to_json(plant_regrets_)},
-        {"regret_count", regret_count_},
-        {"regrets", {doubles_to_json(regrets_[0]), doubles_to_json(regrets_[1])}},
-        {"audit_counts", {audit_counts_[0], audit_counts_[1]}},
-        {"audits", audits_},
-        {"audit_pairs",
-         {{"regrets", {doubles_to_json(pair_regrets_[0]), doubles_to_json(pair_regrets_[1])}},
-          {"count", audit_pairs_},
-          {"last_time", last_audit_.time},
-          {"last_corrected", last_audit_.corrected},
-          {"last_regret", number_to_json(last_audit_.regret)}}},
-        {"report", json_state::report_to_json(report_)},
-        {"step", step_to_json(step_)},
-        {"surrogate", surrogate_.save()},
-        {"probe", probe_.save()},
-        {"estimator", estimator_.save()}};
+    nlohmann::json saved{{"format", json_format},
+                         {"dimension", dimension()},
+                         {"mean", doubles_to_json(mean_)},
+                         {"covariance", json_state::matrix_to_json(covariance_)},
+                         {"process_variance", number_to_json(process_variance_)},
+                         {"assemblies", assemblies_},
+                         {"time", time_},
+                         {"retry_at", retry_at_},
+                         {"restarted", restarted_},
+                         {"quadratic", quadratic_},
+                         {"pending", pending_},
+                         {"control", doubles_to_json(control_)},
+                         {"model", json_state::model_to_json(model_)},
+                         {"recent_innovations", doubles_to_json(recent_innovations_)},
+                         {"innovation_count", innovation_count_},
+                         {"plant_regrets", doubles_to_json(plant_regrets_)},
+                         {"regret_count", regret_count_},
+                         {"report", json_state::report_to_json(report_)},
+                         {"step", step_to_json(step_)},
+                         {"surrogate", surrogate_.save()},
+                         {"probe", probe_.save()},
+                         {"estimator", estimator_.save()}};
+    audit_.save(saved);
     nlohmann::json kept = nlohmann::json::array();
     if constexpr (TwinWithKeptAssemblies<T>) {
       for (std::size_t slot = 0; slot < kept_times_.size(); ++slot) {
@@ -426,32 +417,8 @@ class ActiveCalibrationController {
     json_state::read_doubles(field(saved, "plant_regrets"), "plant_regrets", plant_regrets);
     const auto regret_count =
         static_cast<std::size_t>(json_state::read_count(saved, "regret_count"));
-    const nlohmann::json& saved_regrets =
-        json_state::require_array(field(saved, "regrets"), "regrets", 2);
-    const nlohmann::json& saved_counts =
-        json_state::require_array(field(saved, "audit_counts"), "audit_counts", 2);
-    std::array<std::vector<double>, 2> regrets = regrets_;
-    std::array<std::size_t, 2> audit_counts{};
-    for (std::size_t arm = 0; arm < 2; ++arm) {
-      json_state::read_doubles(saved_regrets[arm], fmt::format("regrets[{}]", arm), regrets[arm]);
-      audit_counts[arm] = static_cast<std::size_t>(
-          json_state::read_integer(saved_counts[arm], fmt::format("audit_counts[{}]", arm), 0));
-    }
-    const std::uint64_t audits = json_state::read_count(saved, "audits");
-    std::array<std::vector<double>, 2> pair_regrets = pair_regrets_;
-    AuditedAssembly last_audit;
-    const nlohmann::json& pairs = field(saved, "audit_pairs");
-    const std::size_t audit_pairs = json_state::within("audit_pairs", [&] {
-      const nlohmann::json& rings =
-          json_state::require_array(field(pairs, "regrets"), "regrets", 2);
-      for (std::size_t arm = 0; arm < 2; ++arm) {
-        json_state::read_doubles(rings[arm], fmt::format("regrets[{}]", arm), pair_regrets[arm]);
-      }
-      last_audit.time = read_integer_field(pairs, "last_time", -1);
-      last_audit.corrected = read_bool(pairs, "last_corrected");
-      last_audit.regret = json_state::read_double_field(pairs, "last_regret");
-      return static_cast<std::size_t>(json_state::read_count(pairs, "count"));
-    });
+    DoNoHarmAudit audit = audit_;
+    audit.restore(saved);
     const nlohmann::json& saved_report = field(saved, "report");
     ProposalReport report =
         json_state::within("report", [&] { return json_state::read_report(saved_report, d); });
@@ -509,12 +476,7 @@ class ActiveCalibrationController {
     innovation_count_ = innovation_count;
     plant_regrets_.swap(plant_regrets);
     regret_count_ = regret_count;
-    regrets_.swap(regrets);
-    audit_counts_ = audit_counts;
-    audits_ = audits;
-    pair_regrets_.swap(pair_regrets);
-    audit_pairs_ = audit_pairs;
-    last_audit_ = last_audit;
+    audit_ = std::move(audit);
     if constexpr (TwinWithKeptAssemblies<T>) {
       kept_assemblies_.swap(kept_assemblies);
       kept_times_.swap(kept_times);
@@ -681,18 +643,12 @@ class ActiveCalibrationController {
     return changed;
   }
 
-  // Do no harm, measured: where the estimate is in doubt — the twin's model failed its check
-  // (τ² > 0), or the estimator's innovations misfit the plant by audit_misfit or more (its
-  // prediction_scale(): a plant that is not the twin) — every assembly whose
-  // estimate would be applied is audited: its relative regret (z − z*)/z* joins the corrected or
-  // the uncorrected arm (an assembly held back by harmful() joins the uncorrected one). Every
-  // audit_period-th corrected assembly is left uncorrected (or the reverse while the correction
-  // is off), and the correction is applied only while it does not cost more than it saves on
-  // the last audit_window pairs of consecutive audited assemblies of different arms (audit_means).
-  // Until there are 3 pairs, the arms' last audit_window regrets stand in; until each arm has 3:
-  // with τ² > 0 the estimate, which weighs its models' errors, is trusted; on a misfit alone,
-  // which it does not explain, the arms alternate. After the model's fit, from its own check;
-  // with fit_at_audited_arm before it (audit_decision), from the last assembly's.
+  // Do no harm, measured (DoNoHarmAudit): where the estimate is in doubt — the twin's model
+  // failed its check (τ² > 0), or the estimator's innovations misfit the plant by audit_misfit or
+  // more (its prediction_scale(): a plant that is not the twin) — every assembly whose estimate
+  // would be applied is audited (one held back by harmful() joins the uncorrected arm). After the
+  // model's fit, from its own check; with fit_at_audited_arm before it (audit_decision), from the
+  // last assembly's.
   void audit(bool wanted) {
     step_.audited = false;
     if (!quadratic_ || !wanted) return;
@@ -701,58 +657,18 @@ class ActiveCalibrationController {
     if (arm) step_.corrected = *arm;
   }
 
-  // The audit's arm for an assembly whose estimate would be applied: nothing where the estimate
-  // is not in doubt (no erring model, no misfit) or the audit is off; otherwise whether the
-  // correction is applied (false for one held back by harmful(), which is not counted).
+  // The audit's arm for an assembly whose estimate would be applied: in doubt where a model
+  // erred or the estimator misfits the plant by audit_misfit or more (DoNoHarmAudit::decide).
   [[nodiscard]] std::optional<bool> audit_decision(bool erring_model, bool held_back) {
-    const bool doubtful = erring_model || estimator_.prediction_scale() >= options_.audit_misfit;
-    if (!doubtful || options_.audit_period <= 0) return std::nullopt;
-    if (held_back) return false;  // an uncorrected sample all the same
-    ++audits_;
-    const std::optional<std::array<double, 2>> means = audit_means();
-    if (!means && !erring_model) return audits_ % 2 == 1;
-    const bool helps = !means || (*means)[1] <= (*means)[0];
-    // A correction that at least halves the regret is audited four times less often.
-    const bool clear = means && (*means)[1] <= 0.5 * (*means)[0];
-    const auto period = static_cast<std::uint64_t>(options_.audit_period * (clear ? 4 : 1));
-    const bool flip = audits_ % period == 0;
-    return helps != flip;
+    const bool doubt = erring_model || estimator_.prediction_scale() >= options_.audit_misfit;
+    return audit_.decide(doubt, erring_model, held_back);
   }
 
-  // The mean relative regrets, uncorrected [0] and corrected [1], over the kept pairs — an
-  // audited assembly and the audited one just before it, of the other arm — once there are 3;
-  // before that over each arm's kept assemblies, or nothing while either arm has fewer than 3.
-  // Pairs compare the arms at one time: the arm that is off is sampled once per audit_period
-  // (or 4 audit_period) assemblies, so its kept regrets reach 10–40 times further back than the
-  // other's, and under a drift the regret of doing nothing changes by several times over such
-  // a span (docs/reproduction.md, "Twin ≠ plant").
-  [[nodiscard]] std::optional<std::array<double, 2>> audit_means() const noexcept {
-    const bool paired = audit_pairs_ >= 3;
-    std::array<double, 2> means{};
-    for (std::size_t arm = 0; arm < 2; ++arm) {
-      const std::vector<double>& ring = paired ? pair_regrets_[arm] : regrets_[arm];
-      const std::size_t kept = std::min(ring.size(), paired ? audit_pairs_ : audit_counts_[arm]);
-      if (kept < 3) return std::nullopt;
-      for (std::size_t i = 0; i < kept; ++i) means[arm] += ring[i];
-      means[arm] /= static_cast<double>(kept);
-    }
-    return means;
-  }
-
+  // The audited assembly's relative regret (z − z*)/z* joins its arm; assemblies_ counts
+  // proposals, so this one's time is assemblies_.
   void record_audit(double z) {
-    const std::size_t arm = step_.corrected ? 1 : 0;
     const double best = std::max(report_.optimal_quality, std::numeric_limits<double>::min());
-    const double regret = (z - best) / best;
-    regrets_[arm][audit_counts_[arm] % regrets_[arm].size()] = regret;
-    ++audit_counts_[arm];
-    // assemblies_ counts proposals, so the assembly just before this one had assemblies_ − 1.
-    if (last_audit_.time == assemblies_ - 1 && last_audit_.corrected != step_.corrected) {
-      const std::size_t at = audit_pairs_ % pair_regrets_[arm].size();
-      pair_regrets_[arm][at] = regret;
-      pair_regrets_[1 - arm][at] = last_audit_.regret;
-      ++audit_pairs_;
-    }
-    last_audit_ = {assemblies_, step_.corrected, regret};
+    audit_.record(assemblies_, step_.corrected, (z - best) / best);
   }
 
   // Do no harm: innovations beyond the gate (innovation_gate σ) in more of the last
@@ -879,6 +795,7 @@ class ActiveCalibrationController {
   Probe probe_;
   Scheme scheme_;
   ConstantVelocityEstimator<N> estimator_;
+  DoNoHarmAudit audit_;
   ControlVector mean_;
   CovarianceMatrix covariance_;
   double process_variance_ = 0.0;
@@ -907,19 +824,6 @@ class ActiveCalibrationController {
   ControlVector entry_point_;
   ControlVector entry_offset_;
   QuadraticModel<N> entry_model_;
-  std::array<std::vector<double>, 2> regrets_;  // audit rings: [0] uncorrected, [1] corrected
-  std::array<std::size_t, 2> audit_counts_{};
-  std::uint64_t audits_ = 0;
-  // The audit's pairs (audit_means): rings like regrets_, their count, and the last audited
-  // assembly (time −1: none yet).
-  struct AuditedAssembly {
-    Index time = -1;
-    bool corrected = false;
-    double regret = 0.0;
-  };
-  std::array<std::vector<double>, 2> pair_regrets_;
-  std::size_t audit_pairs_ = 0;
-  AuditedAssembly last_audit_;
   // The plant's regrets z² − z*² of the last regret_window assemblies the estimator updated
   // with (a ring), their count, and a workspace for their median.
   std::vector<double> plant_regrets_;
