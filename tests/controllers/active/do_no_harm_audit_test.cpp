@@ -37,8 +37,10 @@ TEST(DoNoHarmAudit, AuditsNothingWithoutDoubtOrWithoutAPeriod) {
   DoNoHarmAudit audit(10, 10);
   EXPECT_EQ(audit.decide(false, false, false), std::nullopt);
   EXPECT_EQ(audit.decide(false, false, true), std::nullopt);
-  DoNoHarmAudit off(0, 10);
+  DoNoHarmAudit off(0, 0);
   EXPECT_EQ(off.decide(true, true, false), std::nullopt);
+  for (Index t = 0; t < 8; ++t) off.record(t, t % 2 == 0, 1.0);  // keeps nothing
+  EXPECT_EQ(off.means(), std::nullopt);
   EXPECT_EQ(audit.audits(), 0U);
   EXPECT_EQ(off.audits(), 0U);
 }

@@ -75,8 +75,9 @@ class DoNoHarmAudit {
 
   /// Records the relative regret (z − z*)/z* of the audited assembly `time` (≥ 0; one call per
   /// assembly, in order), `corrected` or not; it pairs with the audited assembly just before it
-  /// when that one was of the other arm.
+  /// when that one was of the other arm. An audit that is off keeps nothing.
   void record(Index time, bool corrected, double regret) {
+    if (period_ <= 0) return;
     const std::size_t arm = corrected ? 1 : 0;
     regrets_[arm][counts_[arm] % regrets_[arm].size()] = regret;
     ++counts_[arm];
