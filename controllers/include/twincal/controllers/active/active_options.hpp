@@ -127,7 +127,10 @@ struct ActiveOptions {
   /// and lost runs 29 → 18, held-out seed pairs about the same (4.52 → 4.30, 13 → 11 lost), but
   /// the held-out soft stop at d = 3 about 0.27 → 0.61 × the baseline (lost 6 → 19 of 40): the
   /// off-centre models' large innovations restart the estimator after a drift turns, which the
-  /// soft stop relies on. Off by default for that.
+  /// soft stop relies on. They do so because an uncorrected assembly's model errs by δû and the
+  /// paper's drift (eq. 15) turns where the offset is largest: under a drift that turns at random
+  /// times the soft stop's edge is gone and this option does as well or better on every held-out
+  /// shape. Off by default, for the paper's protocol.
   bool fit_at_audited_arm = false;
 
   [[nodiscard]] std::optional<std::string> validate() const {
