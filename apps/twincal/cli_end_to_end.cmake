@@ -85,6 +85,18 @@ if(status EQUAL 0 OR NOT err MATCHES "seed was 2023, is now 7")
   message(FATAL_ERROR "a conflicting config was not refused (${status}): ${err}")
 endif()
 
+# The version names the build that results directories record.
+twincal_ok(--version)
+if(NOT output MATCHES "^twincal [0-9]+\\.[0-9]+\\.[0-9]+\nbuild: (sources [0-9a-f]+|unknown sources) \\(.+\\)\ncommit: ")
+  message(FATAL_ERROR "twincal --version printed:\n${output}")
+endif()
+file(READ "${WORK_DIR}/a/summary.json" summary)
+string(JSON recorded GET "${summary}" groups 0 build)
+string(FIND "${output}" "build: ${recorded}\n" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "the results record build '${recorded}', twincal --version says:\n${output}")
+endif()
+
 # 6. The summary, and --help everywhere.
 twincal_ok(summary --results "${WORK_DIR}/a")
 if(NOT output MATCHES "analytic/ABC +w=1 +2 ")

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "twincal/experiments/build_id.hpp"
 #include "twincal/external/child_groups.hpp"
 
 namespace {
@@ -16,7 +17,7 @@ namespace {
 constexpr const char* usage =
     R"(twincal — online calibration and control of digital twins (Sjöberg et al. 2023)
 
-usage: twincal <command> [options]      twincal <command> --help
+usage: twincal <command> [options]      twincal <command> --help      twincal --version
 
 commands:
   run       run one configuration (a case, a locator set, controllers) for N runs
@@ -45,6 +46,12 @@ int main(int argc, char** argv) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     fmt::print("{}", usage);
     return args.empty() ? 2 : 0;
+  }
+  if (args[0] == "--version") {
+    // What results directories record as `build` and `commit` (docs/cli.md, "Resume").
+    fmt::print("twincal {}\nbuild: {}\ncommit: {}\n", TWINCAL_VERSION, twincal::build_id(),
+               twincal::build_commit());
+    return 0;
   }
   const std::string& command = args[0];
   const std::span<const std::string> rest(args.begin() + 1, args.end());
