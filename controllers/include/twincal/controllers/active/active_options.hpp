@@ -13,6 +13,7 @@
 #include <fmt/ranges.h>
 
 #include "twincal/controllers/active/constant_velocity_options.hpp"
+#include "twincal/controllers/active/do_no_harm_audit.hpp"
 #include "twincal/controllers/active/quadratic_surrogate.hpp"
 #include "twincal/controllers/paper_settings.hpp"
 #include "twincal/core/eigen.hpp"
@@ -156,10 +157,8 @@ struct ActiveOptions {
          rule::non_negative_finite("relinearization_reach", relinearization_reach),
          rule::non_negative_finite("regret_probe", regret_probe),
          rule::at_least("regret_window", regret_window, Index{1}),
-         rule::check_fields(
-             audit_period == 0 || (audit_period >= 2 && audit_window >= 3),
-             "audit_period and audit_window", std::array{audit_period, audit_window},
-             "audit_period = 0 (no audit), or audit_period >= 2 and audit_window >= 3"),
+         DoNoHarmAudit::settings_problem(audit_period, audit_window, "audit_period",
+                                         "audit_window"),
          rule::finite_at_least("audit_misfit", audit_misfit, 1.0),
          rule::nested("surrogate", surrogate),
          rule::nested("trajectory", trajectory)});

@@ -25,6 +25,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -34,6 +36,7 @@
 #include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/error.hpp"
+#include "twincal/core/options.hpp"
 
 namespace twincal {
 
@@ -41,18 +44,25 @@ class DoNoHarmAudit {
  public:
   /// An audit that flips every `period`-th audited assembly (0: no audit) and judges on the last
   /// `window` pairs.
-  /// @throws InvalidArgumentError (period 1 or negative, or a window below 3 with a period).
+  /// @throws InvalidArgumentError (settings_problem()).
   DoNoHarmAudit(Index period, Index window) : period_(period) {
-    if (!(period == 0 || (period >= 2 && window >= 3))) {
-      throw InvalidArgumentError(
-          "period",
-          fmt::format("period and window: values are [{}, {}]; rule: period = 0 (no audit), or "
-                      "period >= 2 and window >= 3",
-                      period, window));
+    if (std::optional<std::string> problem = settings_problem(period, window)) {
+      throw InvalidArgumentError("period and window", *problem);
     }
     for (auto& ring : regrets_)
       ring.assign(static_cast<std::size_t>(std::max<Index>(window, 0)), 0.0);
     pair_regrets_ = regrets_;
+  }
+
+  /// The rule the settings obey, in the options' message format, its fields named as the owner
+  /// names them (ActiveOptions: audit_period, audit_window).
+  [[nodiscard]] static std::optional<std::string> settings_problem(
+      Index period, Index window, std::string_view period_name = "period",
+      std::string_view window_name = "window") {
+    return rule::check_fields(
+        period == 0 || (period >= 2 && window >= 3),
+        fmt::format("{} and {}", period_name, window_name), std::array{period, window},
+        "{0} = 0 (no audit), or {0} >= 2 and {1} >= 3", period_name, window_name);
   }
 
   /// The arm of an assembly whose correction would be applied: nothing where the estimate is not

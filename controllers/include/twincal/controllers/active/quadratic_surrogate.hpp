@@ -170,7 +170,7 @@ class QuadraticSurrogate {
     require_dimension("center", center.size(), d);
     require_shape("hessian", hessian, d, d);
     if (uses_deviations()) return fit_from_deviations(assembly, center, model);
-    const Index count = d + 1;
+    const Index count = gradient_fit_evaluations();
     evaluate_squares(assembly, axis_stencil(center, false), values_.head(count));
     model.center = center;
     model.value = values_(0);
@@ -235,12 +235,15 @@ class QuadraticSurrogate {
   }
 
  private:
+  // Leading columns of a workspace (points_, deviations_): a view, named rather than `auto`.
+  using Columns = Eigen::Block<MatrixX, Dynamic, Dynamic, true>;
+
   // The fit from Q² of the file comment, full or with H kept; a full one writes hessian_.
   std::uint64_t fit_from_squares(const Assembly& assembly, const Vector<N>& center, bool full,
                                  QuadraticModel<N>& model) {
     const Index d = dimension();
     const Index count = full ? full_fit_evaluations() : gradient_fit_evaluations();
-    auto points = points_.leftCols(count);
+    Columns points = points_.leftCols(count);
     axis_stencil(center, full);
     if (full) {
       points.rightCols(count - 1 - 2 * d).colwise() = center;
@@ -306,9 +309,9 @@ class QuadraticSurrogate {
   // The gradient fit from the deviations: r at v0, J and H kept.
   std::uint64_t fit_with_kept_jacobian(const Assembly& assembly, const Vector<N>& center,
                                        QuadraticModel<N>& model) {
-    auto point = points_.leftCols(1);
+    Columns point = points_.leftCols(1);
     point.col(0) = center;
-    auto residual = deviations_.leftCols(1);
+    Columns residual = deviations_.leftCols(1);
     if constexpr (TwinWithDeviations<T>) twin_->deviations_batch(assembly, point, residual);
     require_finite_deviations(1);
     value_and_gradient(center, jacobian_, model);
@@ -343,11 +346,9 @@ class QuadraticSurrogate {
 
   // The first columns of points_: v0, v0 + h_i e_i and, two-sided, v0 − h_i e_i (d + 1 or
   // 2d + 1 columns; the fits' stencils all begin with these).
-  Eigen::Block<MatrixX, Dynamic, Dynamic, true> axis_stencil(const Vector<N>& center,
-                                                             bool two_sided) {
+  Columns axis_stencil(const Vector<N>& center, bool two_sided) {
     const Index d = dimension();
-    Eigen::Block<MatrixX, Dynamic, Dynamic, true> points =
-        points_.leftCols(two_sided ? 2 * d + 1 : d + 1);
+    Columns points = points_.leftCols(two_sided ? 2 * d + 1 : d + 1);
     points.colwise() = center;
     for (Index i = 0; i < d; ++i) {
       points(i, 1 + i) += steps_(i);
