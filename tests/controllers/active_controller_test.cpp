@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -495,6 +496,30 @@ TEST(ActiveController, ASnapshotRestoresItsSigmaPointModeBitForBit) {
                                                                 ActiveOptions{}, 0);
 }
 
+// Each kept assembly's check (for the τ² of its refits) is in the snapshot; one written before
+// it was restores with the entries' τ² kept at refits, and a negative one is refused by name.
+TEST(ActiveController, RestoresTheChecksOfItsKeptAssemblies) {
+  const RuggedPlant plant;
+  ActiveController<RuggedTwin, Dynamic> controller(plant.twin, RandomStream(6));
+  for (int t = 0; t < 12; ++t) plant.answer(controller, t, controller.propose(plant.assembly(t)));
+  const nlohmann::json good = controller.save();
+  ASSERT_FALSE(good["kept_assemblies"].empty());
+  ActiveController<RuggedTwin, Dynamic> restored(plant.twin, RandomStream(7));
+  nlohmann::json older = good;
+  for (nlohmann::json& entry : older["kept_assemblies"]) entry.erase("model_error");
+  restored.restore(older);
+  EXPECT_EQ(restored.save()["kept_assemblies"], older["kept_assemblies"]);
+  const std::string state = restored.save().dump();
+  nlohmann::json bad = good;
+  bad["kept_assemblies"][0]["model_error"] = -0.5;
+  EXPECT_THAT([&] { restored.restore(bad); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(::testing::HasSubstr(
+                  "kept_assemblies[0].model_error: value is -0.5; rule: must be >= 0")));
+  EXPECT_EQ(restored.save().dump(), state);
+  restored.restore(good);
+  EXPECT_EQ(restored.save().dump(), good.dump());
+}
+
 TEST(ActiveController, RefusesABadSnapshotAndKeepsItsState) {
   const test_support::AnalyticTwin twin = test_support::make_twin(3);
   ActiveController<test_support::AnalyticTwin, Dynamic> tried(twin, RandomStream(8));
@@ -600,6 +625,43 @@ Episode run(std::uint64_t seed, bool from_deviations) {
   episode.baseline /= count;
   episode.evaluations /= count;
   return episode;
+}
+
+// A refitted entry is used within relinearization_reach · h of its new centre, so its τ² is the
+// model's error at that distance, below the one it was added with (at one standard deviation of
+// P); no entry's τ² grows. Contact at d = 3, the paper's drift, 40 assemblies.
+TEST(ActiveControllerOnContact, WeighsARefittedModelByItsErrorWhereTheFitUsesIt) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 3;
+  KeyPointTwin<ContactNonlinearity> key_points(options, RandomStream(11));
+  const std::vector<AssemblyId> assemblies = key_points.assemblies();
+  const SearchedOptimumTwin<KeyPointTwin<ContactNonlinearity>> twin(std::move(key_points),
+                                                                     assemblies);
+  RandomStream stream(12);
+  RandomStream drift_stream = stream.substream("drift");
+  BouncingDrift<3> drift = BouncingDrift<3>::random(3, drift_stream);
+  ActiveController<SearchedOptimumTwin<KeyPointTwin<ContactNonlinearity>>, 3> controller(
+      twin, stream.substream("controller"));
+  std::map<Index, double> added;  // τ² of each assembly's model as it joined the history
+  for (Index t = 0; t < 40; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
+    drift.advance();
+    const Vector<3> u = controller.propose(x);
+    added[t] = controller.last_step().model_variance;
+    controller.observe(x, u, twin.quality(x, VectorX(u - drift.offset())));
+  }
+  const nlohmann::json saved = controller.save();
+  int lowered = 0;
+  for (const nlohmann::json& entry : saved["estimator"]["history"]) {
+    const double variance = entry["model_variance"].get<double>();
+    const double before = added.at(entry["time"].get<Index>());
+    EXPECT_LE(variance, before) << entry["time"];
+    lowered += variance < 0.5 * before ? 1 : 0;
+  }
+  EXPECT_GT(lowered, 0);
+  for (const nlohmann::json& entry : saved["kept_assemblies"]) {
+    EXPECT_GE(entry.at("model_error").get<double>(), 0.0) << entry["time"];
+  }
 }
 
 // Over three seeded episodes: better than no calibration by a clear margin, within the budget

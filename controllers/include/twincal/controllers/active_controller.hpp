@@ -164,6 +164,7 @@ class ActiveCalibrationController {
       const auto kept = static_cast<std::size_t>(options_.trajectory.max_history);
       kept_assemblies_.resize(kept);
       kept_times_.assign(kept, -1);
+      kept_model_errors_.assign(kept, unknown_model_error);
       candidates_.reserve(kept);
     }
     entry_point_.resize(d);
@@ -339,10 +340,11 @@ class ActiveCalibrationController {
   /// retry of the quadratic model); the pending proposal (u_t, whether its model held, the
   /// model, which observe updates with); the do-no-harm rings (normalized innovations, the
   /// audit's regrets and counts); the plant's last regrets, which price the probe; the
-  /// assemblies kept for relinearization; and the last proposal's reports. Not the workspaces
-  /// (sigma points, check points, the eigensolver of the covariance bound, the relinearization
-  /// candidates), which are rewritten before they are read, nor the settings derived from the
-  /// twin's box.
+  /// assemblies kept for relinearization, with their checks (ε, for the τ² of their refits; a
+  /// snapshot written before 2026-11-28 has none, and its entries keep their τ² when refitted);
+  /// and the last proposal's reports. Not the workspaces (sigma points, check points, the
+  /// eigensolver of the covariance bound, the relinearization candidates), which are rewritten
+  /// before they are read, nor the settings derived from the twin's box.
   [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
     using json_state::doubles_to_json;
     using json_state::number_to_json;
@@ -373,9 +375,11 @@ class ActiveCalibrationController {
     if constexpr (TwinWithKeptAssemblies<T>) {
       for (std::size_t slot = 0; slot < kept_times_.size(); ++slot) {
         if (kept_times_[slot] < 0) continue;
-        kept.push_back({{"slot", slot},
-                        {"time", kept_times_[slot]},
-                        {"assembly", json_state::assembly_to_json(kept_assemblies_[slot])}});
+        nlohmann::json entry = {{"slot", slot},
+                                {"time", kept_times_[slot]},
+                                {"assembly", json_state::assembly_to_json(kept_assemblies_[slot])}};
+        if (std::isfinite(kept_model_errors_[slot])) entry["model_error"] = kept_model_errors_[slot];
+        kept.push_back(std::move(entry));
       }
     }
     saved["kept_assemblies"] = std::move(kept);
@@ -426,11 +430,13 @@ class ActiveCalibrationController {
     const ActiveStepReport step = json_state::within("step", [&] { return read_step(saved_step); });
     std::vector<Assembly> kept_assemblies;
     std::vector<Index> kept_times;
+    std::vector<double> kept_model_errors;
     const nlohmann::json& saved_kept =
         json_state::require_array(field(saved, "kept_assemblies"), "kept_assemblies");
     if constexpr (TwinWithKeptAssemblies<T>) {
       kept_assemblies = kept_assemblies_;
       kept_times.assign(kept_times_.size(), -1);
+      kept_model_errors.assign(kept_times_.size(), unknown_model_error);
       for (std::size_t i = 0; i < saved_kept.size(); ++i) {
         json_state::within(fmt::format("kept_assemblies[{}]", i), [&] {
           const nlohmann::json& entry = saved_kept[i];
@@ -438,6 +444,15 @@ class ActiveCalibrationController {
               read_integer_field(entry, "slot", 0, std::ssize(kept_times) - 1));
           kept_times[slot] = read_integer_field(entry, "time", 0);
           json_state::read_assembly(field(entry, "assembly"), "assembly", kept_assemblies[slot]);
+          if (entry.contains("model_error")) {
+            const double error = json_state::read_double_field(entry, "model_error");
+            if (error < 0.0) {
+              throw InvalidArgumentError(
+                  "model_error",
+                  fmt::format("model_error: value is {}; rule: must be >= 0", error));
+            }
+            kept_model_errors[slot] = error;
+          }
         });
       }
     } else {
@@ -480,6 +495,7 @@ class ActiveCalibrationController {
     if constexpr (TwinWithKeptAssemblies<T>) {
       kept_assemblies_.swap(kept_assemblies);
       kept_times_.swap(kept_times);
+      kept_model_errors_.swap(kept_model_errors);
     }
     report_ = std::move(report);
     step_ = step;
@@ -562,16 +578,48 @@ class ActiveCalibrationController {
   // R/2) weighs good assemblies as if their model failed and loses the offset more often; τ = 0
   // does about as well as ρ⁴ except on contact.
   void weigh_model_error(const CovarianceMatrix& covariance) {
+    step_.model_variance = model_error_variance(
+        step_.model_error, model_.value,
+        reach_fraction(covariance, [&](Index i) { return covariance(i, i); }));
+  }
+
+  // ρ², the mean over the locators of squared_distance(i) / R_i², R = 2√P_ii + h the check's
+  // reach under `covariance`.
+  template <typename SquaredDistance>
+  [[nodiscard]] double reach_fraction(const CovarianceMatrix& covariance,
+                                      SquaredDistance squared_distance) const {
     const Index d = dimension();
-    double reach_fraction = 0.0;
+    double sum = 0.0;
     for (Index i = 0; i < d; ++i) {
       const double reach = 2.0 * std::sqrt(covariance(i, i)) + check_margin_(i);
-      reach_fraction += covariance(i, i) / (reach * reach);
+      sum += squared_distance(i) / (reach * reach);
     }
-    reach_fraction /= static_cast<double>(d);
-    const double error = 0.5 * step_.model_error * std::sqrt(std::max(model_.value, 0.0)) *
+    return sum / static_cast<double>(d);
+  }
+
+  // The ρ⁴ law of weigh_model_error: τ² of a model of value c that erred by `relative_error` at
+  // the check's reach R, used at ρ·R from its centre (ρ² = `reach_fraction`).
+  [[nodiscard]] static double model_error_variance(double relative_error, double value,
+                                                   double reach_fraction) {
+    const double error = 0.5 * relative_error * std::sqrt(std::max(value, 0.0)) *
                          reach_fraction * reach_fraction;
-    step_.model_variance = error * error;
+    return error * error;
+  }
+
+  // τ² of an entry refitted where the fit puts it: the fit uses it within relinearization_reach
+  // · h of its new centre until it is refitted again, so its error is the ρ⁴ law's at that
+  // distance (ρ_i = reach · h_i / R_i, R from the covariance now), not at one standard deviation
+  // of P; never more than it had. `relative_error` is the entry's own check (unknown_model_error
+  // for one restored from a snapshot that predates it: its τ² stays).
+  [[nodiscard]] double refitted_model_variance(double relative_error, double value,
+                                               double before) const {
+    if (!std::isfinite(relative_error)) return before;
+    const double fraction =
+        reach_fraction(estimator_.position_covariance(), [&](Index i) {
+          const double used = options_.relinearization_reach * check_margin_(i);
+          return used * used;
+        });
+    return std::min(before, model_error_variance(relative_error, value, fraction));
   }
 
   // The estimator's update: z joins the history, and the estimate moves to the next assembly.
@@ -589,6 +637,7 @@ class ActiveCalibrationController {
       const std::size_t at = static_cast<std::size_t>(time_) % kept_assemblies_.size();
       kept_assemblies_[at] = assembly;
       kept_times_[at] = time_;
+      kept_model_errors_[at] = step_.model_error;
       if (relinearize()) estimator_.fit(time_ + 1);
     }
     step_.velocity_change = estimator_.changed();
@@ -637,7 +686,9 @@ class ActiveCalibrationController {
       } catch (const std::exception&) {
         break;  // the entry keeps its model; the twin's trouble shows at the next proposal
       }
-      estimator_.relinearize(i, entry_model_, estimator_.entry_model_variance(i));
+      estimator_.relinearize(i, entry_model_,
+                             refitted_model_variance(kept_model_errors_[at], entry_model_.value,
+                                                     estimator_.entry_model_variance(i)));
       changed = true;
     }
     return changed;
@@ -820,6 +871,9 @@ class ActiveCalibrationController {
   ControlVector gain_;
   std::vector<Assembly> kept_assemblies_;  // the estimator's assemblies, by time % max_history
   std::vector<Index> kept_times_;
+  // Each kept assembly's check (its model's relative error ε), for the τ² of its refits.
+  std::vector<double> kept_model_errors_;
+  static constexpr double unknown_model_error = std::numeric_limits<double>::infinity();
   std::vector<std::pair<double, Index>> candidates_;  // relinearize(): (reach, entry)
   ControlVector entry_point_;
   ControlVector entry_offset_;
