@@ -279,14 +279,17 @@ TEST(ActiveController, RefitsTheModelsTheFitMovesBeyondTheirReach) {
 
 // Do no harm, measured: a plant that punishes every move away from u0 (the correction costs
 // more than it saves) gets, once the audit has compared the two arms, corrections only at the
-// audit's own assemblies (every audit_period-th); with the audit off no assembly is audited.
+// audit's own assemblies (every audit_period-th), whether it picks its arm before the model's
+// fit or after; with the audit off no assembly is audited.
 TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
   const std::vector<AssemblyId> assemblies = twin.assemblies();
-  for (const Index period : {Index{10}, Index{0}}) {
-    ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6),
-                                                     ActiveOptions{.audit_period = period});
+  for (const auto& [period, arm_first] :
+       {std::pair{Index{10}, true}, std::pair{Index{10}, false}, std::pair{Index{0}, true}}) {
+    ActiveController<RuggedTwin, Dynamic> controller(
+        twin, RandomStream(6),
+        ActiveOptions{.audit_period = period, .fit_at_audited_arm = arm_first});
     int corrected = 0;
     int audited = 0;
     int corrected_unaudited = 0;
@@ -312,12 +315,12 @@ TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
   }
 }
 
-// fit_at_audited_arm: the audit picks its arm before the assembly's model is fitted, and the
-// model is fitted where the plant will be under that arm if the estimate is right: at the
-// twin-frame control u0 + (δû if corrected) − δû, so an assembly the audit leaves uncorrected is
-// fitted at u0 − δû, not at u0. Probes priced by the model (regret_probe = 0), so that the
+// fit_at_audited_arm (the default): the audit picks its arm before the assembly's model is
+// fitted, and the model is fitted where the plant will be under that arm if the estimate is
+// right: at the twin-frame control u0 + (δû if corrected) − δû, so an assembly the audit leaves
+// uncorrected is fitted at u0 − δû, not at u0. Probes priced by the model (regret_probe = 0), so that the
 // centre does not hold the probe.
-TEST(ActiveController, FitsEachModelWhereTheAuditsArmPutsThePlantWhenAsked) {
+TEST(ActiveController, FitsEachModelWhereTheAuditsArmPutsThePlant) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
   const std::vector<AssemblyId> assemblies = twin.assemblies();

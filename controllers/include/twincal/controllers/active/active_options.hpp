@@ -120,19 +120,20 @@ struct ActiveOptions {
   /// (docs/reproduction.md, "Twin ≠ plant").
   double audit_misfit = 4.0;
   /// Where the audit leaves an assembly uncorrected, the plant is δû away from the corrected
-  /// point at which the assembly's model is fitted (u0), and a model of a twin whose Q² is not a
-  /// quadratic holds only near its centre. true: the audit picks its arm before the fit, from
-  /// whether the last assembly's model erred, and the model is fitted where that arm puts the
-  /// plant (u0 − δû uncorrected). Measured on 2026-11-28 (docs/reproduction.md, "Black-box
-  /// twins"): over the 60 development cells the sum of the ratios to the baseline 11.26 → 9.94
-  /// and lost runs 29 → 18, held-out seed pairs about the same (4.52 → 4.30, 13 → 11 lost), but
-  /// the held-out soft stop at d = 3 about 0.27 → 0.61 × the baseline (lost 6 → 19 of 40): the
-  /// off-centre models' large innovations restart the estimator after a drift turns, which the
-  /// soft stop relies on. They do so because an uncorrected assembly's model errs by δû and the
-  /// paper's drift (eq. 15) turns where the offset is largest: under a drift that turns at random
-  /// times the soft stop's edge is gone and this option does as well or better on every held-out
-  /// shape. Off by default, for the paper's protocol.
-  bool fit_at_audited_arm = false;
+  /// point at which the assembly's model would be fitted (u0), and a model of a twin whose Q² is
+  /// not a quadratic holds only near its centre. true: the audit picks its arm before the fit,
+  /// from whether the last assembly's model erred, and the model is fitted where that arm puts
+  /// the plant (u0 − δû uncorrected); false: the arm is picked after the fit, from this
+  /// assembly's check, and every model is fitted at the corrected point. Measured on 2026-11-28
+  /// with refitted models weighed where they are used (docs/reproduction.md, "Black-box twins"):
+  /// over the 60 development cells the sum of the ratios to the baseline 10.94 → 9.41 and lost
+  /// runs 32 → 22, the held-out seed pair 1.79 → 1.72 (8 → 7 lost), a user's four shapes over
+  /// three seed pairs at d = 3 and 12 4.73 → 4.57 (20 → 18 lost), twins whose models pass their
+  /// checks unchanged; it costs the soft stop at d = 3 on one held-out pair (0.24 → 0.43 × the
+  /// baseline), whose estimator the off-centre models restart where the paper's drift (eq. 15)
+  /// turns. Before refits were weighed where used, that cost was 0.27 → 0.61 × and the option
+  /// stayed off.
+  bool fit_at_audited_arm = true;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     return first_problem(
