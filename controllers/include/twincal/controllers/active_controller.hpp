@@ -164,7 +164,7 @@ class ActiveCalibrationController {
       const auto kept = static_cast<std::size_t>(options_.trajectory.max_history);
       kept_assemblies_.resize(kept);
       kept_times_.assign(kept, -1);
-      kept_model_errors_.assign(kept, unknown_model_error);
+      kept_model_errors_.assign(kept, std::numeric_limits<double>::infinity());
       candidates_.reserve(kept);
     }
     entry_point_.resize(d);
@@ -340,8 +340,7 @@ class ActiveCalibrationController {
   /// retry of the quadratic model); the pending proposal (u_t, whether its model held, the
   /// model, which observe updates with); the do-no-harm rings (normalized innovations, the
   /// audit's regrets and counts); the plant's last regrets, which price the probe; the
-  /// assemblies kept for relinearization, with their checks (ε, for the τ² of their refits; a
-  /// snapshot written before 2026-11-28 has none, and its entries keep their τ² when refitted);
+  /// assemblies kept for relinearization, with their checks (ε, for the τ² of their refits);
   /// and the last proposal's reports. Not the workspaces (sigma points, check points, the
   /// eigensolver of the covariance bound, the relinearization candidates), which are rewritten
   /// before they are read, nor the settings derived from the twin's box.
@@ -375,11 +374,10 @@ class ActiveCalibrationController {
     if constexpr (TwinWithKeptAssemblies<T>) {
       for (std::size_t slot = 0; slot < kept_times_.size(); ++slot) {
         if (kept_times_[slot] < 0) continue;
-        nlohmann::json entry = {{"slot", slot},
-                                {"time", kept_times_[slot]},
-                                {"assembly", json_state::assembly_to_json(kept_assemblies_[slot])}};
-        if (std::isfinite(kept_model_errors_[slot])) entry["model_error"] = kept_model_errors_[slot];
-        kept.push_back(std::move(entry));
+        kept.push_back({{"slot", slot},
+                        {"time", kept_times_[slot]},
+                        {"assembly", json_state::assembly_to_json(kept_assemblies_[slot])},
+                        {"model_error", json_state::number_to_json(kept_model_errors_[slot])}});
       }
     }
     saved["kept_assemblies"] = std::move(kept);
@@ -436,7 +434,7 @@ class ActiveCalibrationController {
     if constexpr (TwinWithKeptAssemblies<T>) {
       kept_assemblies = kept_assemblies_;
       kept_times.assign(kept_times_.size(), -1);
-      kept_model_errors.assign(kept_times_.size(), unknown_model_error);
+      kept_model_errors.assign(kept_times_.size(), std::numeric_limits<double>::infinity());
       for (std::size_t i = 0; i < saved_kept.size(); ++i) {
         json_state::within(fmt::format("kept_assemblies[{}]", i), [&] {
           const nlohmann::json& entry = saved_kept[i];
@@ -444,15 +442,9 @@ class ActiveCalibrationController {
               read_integer_field(entry, "slot", 0, std::ssize(kept_times) - 1));
           kept_times[slot] = read_integer_field(entry, "time", 0);
           json_state::read_assembly(field(entry, "assembly"), "assembly", kept_assemblies[slot]);
-          if (entry.contains("model_error")) {
-            const double error = json_state::read_double_field(entry, "model_error");
-            if (error < 0.0) {
-              throw InvalidArgumentError(
-                  "model_error",
-                  fmt::format("model_error: value is {}; rule: must be >= 0", error));
-            }
-            kept_model_errors[slot] = error;
-          }
+          kept_model_errors[slot] =
+              json_state::read_double_field(entry, "model_error", json_state::Values::any);
+          require_non_negative("model_error", kept_model_errors[slot]);
         });
       }
     } else {
@@ -609,8 +601,8 @@ class ActiveCalibrationController {
   // τ² of an entry refitted where the fit puts it: the fit uses it within relinearization_reach
   // · h of its new centre until it is refitted again, so its error is the ρ⁴ law's at that
   // distance (ρ_i = reach · h_i / R_i, R from the covariance now), not at one standard deviation
-  // of P; never more than it had. `relative_error` is the entry's own check (unknown_model_error
-  // for one restored from a snapshot that predates it: its τ² stays).
+  // of P; never more than it had. `relative_error` is the entry's own check (a non-finite one
+  // keeps the τ² it had).
   [[nodiscard]] double refitted_model_variance(double relative_error, double value,
                                                double before) const {
     if (!std::isfinite(relative_error)) return before;
@@ -873,7 +865,6 @@ class ActiveCalibrationController {
   std::vector<Index> kept_times_;
   // Each kept assembly's check (its model's relative error ε), for the τ² of its refits.
   std::vector<double> kept_model_errors_;
-  static constexpr double unknown_model_error = std::numeric_limits<double>::infinity();
   std::vector<std::pair<double, Index>> candidates_;  // relinearize(): (reach, entry)
   ControlVector entry_point_;
   ControlVector entry_offset_;
