@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <map>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -318,8 +317,8 @@ TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
 // fit_at_audited_arm (the default): the audit picks its arm before the assembly's model is
 // fitted, and the model is fitted where the plant will be under that arm if the estimate is
 // right: at the twin-frame control u0 + (δû if corrected) − δû, so an assembly the audit leaves
-// uncorrected is fitted at u0 − δû, not at u0. Probes priced by the model (regret_probe = 0), so that the
-// centre does not hold the probe.
+// uncorrected is fitted at u0 − δû, not at u0. Probes priced by the model (regret_probe = 0), so
+// that the centre does not hold the probe.
 TEST(ActiveController, FitsEachModelWhereTheAuditsArmPutsThePlant) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
@@ -640,25 +639,25 @@ TEST(ActiveControllerOnContact, WeighsARefittedModelByItsErrorWhereTheFitUsesIt)
   KeyPointTwin<ContactNonlinearity> key_points(options, RandomStream(11));
   const std::vector<AssemblyId> assemblies = key_points.assemblies();
   const SearchedOptimumTwin<KeyPointTwin<ContactNonlinearity>> twin(std::move(key_points),
-                                                                     assemblies);
+                                                                    assemblies);
   RandomStream stream(12);
   RandomStream drift_stream = stream.substream("drift");
   BouncingDrift<3> drift = BouncingDrift<3>::random(3, drift_stream);
   ActiveController<SearchedOptimumTwin<KeyPointTwin<ContactNonlinearity>>, 3> controller(
       twin, stream.substream("controller"));
-  std::map<Index, double> added;  // τ² of each assembly's model as it joined the history
-  for (Index t = 0; t < 40; ++t) {
+  std::vector<double> added(40);  // τ² of each assembly's model as it joined the history, by time
+  for (Index t = 0; t < std::ssize(added); ++t) {
     const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
     drift.advance();
     const Vector<3> u = controller.propose(x);
-    added[t] = controller.last_step().model_variance;
+    added[static_cast<std::size_t>(t)] = controller.last_step().model_variance;
     controller.observe(x, u, twin.quality(x, VectorX(u - drift.offset())));
   }
   const nlohmann::json saved = controller.save();
   int lowered = 0;
   for (const nlohmann::json& entry : saved["estimator"]["history"]) {
     const double variance = entry["model_variance"].get<double>();
-    const double before = added.at(entry["time"].get<Index>());
+    const double before = added.at(entry["time"].get<std::size_t>());
     EXPECT_LE(variance, before) << entry["time"];
     lowered += variance < 0.5 * before ? 1 : 0;
   }

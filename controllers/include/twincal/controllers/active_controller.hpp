@@ -570,9 +570,9 @@ class ActiveCalibrationController {
   // R/2) weighs good assemblies as if their model failed and loses the offset more often; τ = 0
   // does about as well as ρ⁴ except on contact.
   void weigh_model_error(const CovarianceMatrix& covariance) {
-    step_.model_variance = model_error_variance(
-        step_.model_error, model_.value,
-        reach_fraction(covariance, [&](Index i) { return covariance(i, i); }));
+    step_.model_variance =
+        model_error_variance(step_.model_error, model_.value,
+                             reach_fraction(covariance, [&](Index i) { return covariance(i, i); }));
   }
 
   // ρ², the mean over the locators of squared_distance(i) / R_i², R = 2√P_ii + h the check's
@@ -593,8 +593,8 @@ class ActiveCalibrationController {
   // the check's reach R, used at ρ·R from its centre (ρ² = `reach_fraction`).
   [[nodiscard]] static double model_error_variance(double relative_error, double value,
                                                    double reach_fraction) {
-    const double error = 0.5 * relative_error * std::sqrt(std::max(value, 0.0)) *
-                         reach_fraction * reach_fraction;
+    const double error =
+        0.5 * relative_error * std::sqrt(std::max(value, 0.0)) * reach_fraction * reach_fraction;
     return error * error;
   }
 
@@ -606,11 +606,10 @@ class ActiveCalibrationController {
   [[nodiscard]] double refitted_model_variance(double relative_error, double value,
                                                double before) const {
     if (!std::isfinite(relative_error)) return before;
-    const double fraction =
-        reach_fraction(estimator_.position_covariance(), [&](Index i) {
-          const double used = options_.relinearization_reach * check_margin_(i);
-          return used * used;
-        });
+    const double fraction = reach_fraction(estimator_.position_covariance(), [&](Index i) {
+      const double used = options_.relinearization_reach * check_margin_(i);
+      return used * used;
+    });
     return std::min(before, model_error_variance(relative_error, value, fraction));
   }
 
