@@ -217,17 +217,38 @@ def controller_lines(mine, episodes, x_of):
     return lines
 
 
+# The CLI's controllers keep one colour in every figure, whichever of them a study ran (a
+# figure without w = 1 would otherwise shift every later controller's colour); other labels
+# (w = 0.5, nominal, …) take the colours left, in the order they appear.
+CONTROLLER_COLOURS = {"baseline": "C0", "default": "C1", "w=1": "C2", "active": "C3",
+                      "per-component:w=1": "C4"}
+
+
+def controller_colours(controllers):
+    """A matplotlib colour per controller label of `controllers`."""
+    spare = [f"C{i}" for i in range(10) if f"C{i}" not in CONTROLLER_COLOURS.values()]
+    colours = {}
+    for controller in controllers:
+        if controller in CONTROLLER_COLOURS:
+            colours[controller] = CONTROLLER_COLOURS[controller]
+        else:
+            colours[controller] = spare[len([c for c in colours
+                                             if c not in CONTROLLER_COLOURS]) % len(spare)]
+    return colours
+
+
 def three_panels(lines, evaluations_title):
     """Residual, diverged (solid) and lost (dashed) fractions, Q-evaluations: one line per
     controller; returns the figure and its axes."""
     figure, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    colours = controller_colours(lines)
     for controller, points in lines.items():
         for axis, column in zip(axes, (1, 2, 3)):
-            line, = axis.plot([p[0] for p in points], [p[column] for p in points],
-                              marker="o", label=controller)
+            axis.plot([p[0] for p in points], [p[column] for p in points],
+                      marker="o", label=controller, color=colours[controller])
             if column == 2:  # the lost fraction beside the diverged one, same colour
                 axes[1].plot([p[0] for p in points], [p[4] for p in points], marker="x",
-                             linestyle="--", color=line.get_color())
+                             linestyle="--", color=colours[controller])
     titles = ("median of the runs' mean (z − z*)/z*",
               "fraction of the runs: diverged (—), lost (- -)",
               evaluations_title)
