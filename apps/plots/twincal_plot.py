@@ -26,6 +26,7 @@ the twin's best z*(x_t) below.
 
 import argparse
 import csv
+import itertools
 import json
 import math
 import os
@@ -226,15 +227,9 @@ CONTROLLER_COLOURS = {"baseline": "C0", "default": "C1", "w=1": "C2", "active": 
 
 def controller_colours(controllers):
     """A matplotlib colour per controller label of `controllers`."""
-    spare = [f"C{i}" for i in range(10) if f"C{i}" not in CONTROLLER_COLOURS.values()]
-    colours = {}
-    for controller in controllers:
-        if controller in CONTROLLER_COLOURS:
-            colours[controller] = CONTROLLER_COLOURS[controller]
-        else:
-            colours[controller] = spare[len([c for c in colours
-                                             if c not in CONTROLLER_COLOURS]) % len(spare)]
-    return colours
+    spare = itertools.cycle([f"C{i}" for i in range(10)
+                             if f"C{i}" not in CONTROLLER_COLOURS.values()])
+    return {c: CONTROLLER_COLOURS.get(c) or next(spare) for c in controllers}
 
 
 def three_panels(lines, evaluations_title):

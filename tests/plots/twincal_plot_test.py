@@ -2,7 +2,8 @@
 """`twincal plot --results` on a strength sweep: a controller keeps its colour whichever
 controllers the study ran (apps/plots/twincal_plot.py, CONTROLLER_COLOURS). Two tiny sweeps, one
 with w = 1 and one without; in both, the active controller's lines are drawn in C3 and the
-baseline's in C0, and the sweep without w = 1 has no line in w = 1's C2.
+baseline's in C0, and the sweep without w = 1 has no line in w = 1's C2 nor in C1 (default's,
+which the active controller took before).
 
     twincal_plot_test.py TWINCAL
 """
