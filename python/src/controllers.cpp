@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include <nlohmann/json.hpp>
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -23,6 +24,7 @@
 #include "twincal/controllers/presets.hpp"
 #include "twincal/controllers/sensitivity_weights.hpp"
 #include "twincal/core/random_stream.hpp"
+#include "twincal/experiments/active_options_json.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/samplers/any_sampler.hpp"
 #include "twincal/samplers/candidate_sampler.hpp"
@@ -42,6 +44,13 @@ using Lookahead =
     LookaheadController<PaperFilter<PythonTwin>, AnySampler, ExpectedQuality, AnyExplorationLoss>;
 using PerComponent = PerComponentPaperController<PythonTwin>;
 using Active = ActiveController<PythonTwin>;
+
+// A Python value as JSON, through the json module: what json.dumps takes (without NaN) is what
+// is taken here, and its TypeError or ValueError reaches the caller unchanged.
+nlohmann::json json_of(const py::object& value) {
+  const py::object dumps = py::module_::import("json").attr("dumps");
+  return nlohmann::json::parse(dumps(value, py::arg("allow_nan") = false).cast<std::string>());
+}
 
 /// The Python object: the controller and the twin it refers to (kept at a fixed address).
 template <typename C>
@@ -258,19 +267,30 @@ void bind_controllers(py::module_& module) {
       module, "ActiveController",
       "The active controller (docs/controllers.md, beyond the paper): known probes, the twin's "
       "local quadratic model and a moving-horizon estimate of a drifting offset; cost "
-      "polynomial in d. Seeded.")
+      "polynomial in d. Seeded. `options`: a dict of the settings to change from their defaults, "
+      "by their C++ names, the estimator's under 'trajectory' and the local model's under "
+      "'surrogate' (docs/cli.md, the config's `active`), e.g. {'regret_probe': 0.2, "
+      "'trajectory': {'velocity_fraction': 0.02}}; an unknown key or a value that breaks a rule "
+      "raises InvalidArgumentError naming it.")
       .def(py::init([](py::object twin, std::uint64_t seed, double measurement_variance,
-                       double initial_variance) {
-             ActiveOptions options;
-             options.measurement_variance = measurement_variance;
-             options.initial_variance = initial_variance;
+                       double initial_variance, const py::object& options) {
+             ActiveOptions settings;
+             settings.measurement_variance = measurement_variance;
+             settings.initial_variance = initial_variance;
+             if (!options.is_none()) {
+               apply_active_overrides(json_of(options), settings, "options");
+               if (std::optional<std::string> problem = settings.validate()) {
+                 throw InvalidArgumentError("options", "options." + *problem);
+               }
+             }
              return make_object<Active>(std::move(twin), [&](const PythonTwin& t) {
-               return Active(t, RandomStream(seed), options);
+               return Active(t, RandomStream(seed), settings);
              });
            }),
            py::arg("twin"), py::kw_only(), py::arg("seed") = default_seed,
            py::arg("measurement_variance") = ActiveOptions{}.measurement_variance,
-           py::arg("initial_variance") = ActiveOptions{}.initial_variance);
+           py::arg("initial_variance") = ActiveOptions{}.initial_variance,
+           py::arg("options") = py::none());
 }
 
 }  // namespace twincal::python

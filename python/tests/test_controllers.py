@@ -127,6 +127,27 @@ def test_bad_twins_and_measurements_raise_typed_errors():
         controller.observe(1, u, float("inf"))
 
 
+def test_active_controller_takes_its_settings_by_name_and_refuses_unknown_ones():
+    twin = QuadraticTwin(2)
+    defaults = twincal.ActiveController(twin, seed=5)
+    same = twincal.ActiveController(twin, seed=5, options={})
+    np.testing.assert_array_equal(defaults.propose(0), same.propose(0))
+    # Settings of the controller and of its estimator, by name.
+    wider = twincal.ActiveController(
+        twin, seed=5, options={"max_probe_fraction": 0.5, "trajectory": {"change_gate": 3}})
+    assert wider.propose(0).shape == (2,)
+    with pytest.raises(twincal.InvalidArgumentError, match=r"options\.regret: key \"regret\" is unknown"):
+        twincal.ActiveController(twin, options={"regret": 0.1})
+    with pytest.raises(twincal.InvalidArgumentError, match=r"options\.trajectory\.change_lag: value is 1"):
+        twincal.ActiveController(twin, options={"trajectory": {"change_lag": 1}})
+    with pytest.raises(twincal.InvalidArgumentError, match="beside it"):
+        twincal.ActiveController(twin, options={"measurement_variance": 1e-4})
+    with pytest.raises(twincal.InvalidArgumentError, match="an integer"):
+        twincal.ActiveController(twin, options={"audit_period": 2.5})
+    with pytest.raises(ValueError):
+        twincal.ActiveController(twin, options={"regret_probe": float("nan")})
+
+
 class DelegatingTwin:
     """A Python twin that answers through a twincal.Twin: the controllers then take the Python
     path (callbacks, arrays crossing both ways) for the same numbers as the compiled twin."""

@@ -146,6 +146,27 @@ TEST_F(ResultStoreOfAnalyticGroup, RecordsItsBuildAndResumesAGroupOnlyWithIt) {
   EXPECT_EQ(other.groups()[1].at("build"), "build two");
 }
 
+TEST_F(ResultStoreOfAnalyticGroup, RefusesAGroupRunWithOtherSettingsNamingThemBothWays) {
+  ExperimentGroup changed = group_;
+  changed.config.active.regret_probe = 0.2;
+  {
+    ResultStore store(dir_, "build one");
+    store.add_group(changed, twin_);
+    store.write_summary();
+  }
+  // The stored group has a setting this one leaves at its default (and so does not write).
+  ResultStore other(dir_, "build one");
+  try {
+    other.add_group(group_, twin_);
+    ADD_FAILURE() << "a group run with other settings was resumed";
+  } catch (const InvalidArgumentError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("(active was {\"regret_probe\":0.2}, is now unset)"),
+              std::string::npos)
+        << message;
+  }
+}
+
 TEST_F(ResultStoreOfAnalyticGroup, ResumesAGroupStoredWithoutABuild) {
   {
     ResultStore store(dir_, "build one");

@@ -7,7 +7,7 @@ namespace twincal::detail {
 
 AnyController make_active(const EpisodeSetup& setup) {
   const ExperimentConfig& config = *setup.config;
-  ActiveOptions options;
+  ActiveOptions options = config.active;
   options.measurement_variance = config.filter_measurement_variance();
   options.initial_variance = config.initial_variance;
   // The "filter" substream: δû0 is the same draw as the filter-based controllers' of the run.

@@ -17,6 +17,7 @@
 #include "twincal/core/error.hpp"
 #include "twincal/core/named_enum.hpp"
 #include "twincal/core/options.hpp"
+#include "twincal/experiments/active_options_json.hpp"
 #include "twincal/experiments/strict_json.hpp"
 
 namespace twincal {
@@ -148,6 +149,7 @@ std::optional<std::string> ExperimentConfig::validate() const {
                    candidate_cap.value_or(0), "must be >= 1 (unset: no cap)"),
        rule::check(runs >= 1 && runs <= max_runs, "runs", runs, "must lie in [1, {}]", max_runs),
        rule::at_least("assemblies", assemblies, Index{1}),
+       rule::nested("active", active),
        rule::check(name.find_first_of(",\n\"") == std::string::npos, "name", name,
                    "must not contain commas, quotes or newlines")});
 }
@@ -263,6 +265,20 @@ const std::map<std::string, Field, std::less<>>& fields() {
     t["candidate_cap"] = optional(&ExperimentConfig::candidate_cap, "candidate_cap");
     t["keep_drawing"] = plain(&ExperimentConfig::keep_drawing, "keep_drawing");
     t["box_half_width"] = plain(&ExperimentConfig::box_half_width, "box_half_width");
+    // Only the settings changed from their defaults, and no key at all when none is: a config
+    // that leaves the active controller alone writes what it wrote before the key existed, so
+    // results stored under it stay reusable (episode_defining_json).
+    t["active"] = {[](json& j, const ExperimentConfig& c) {
+                     json changed = active_overrides(c.active);
+                     if (!changed.empty()) j["active"] = std::move(changed);
+                   },
+                   [](const json& v, ExperimentConfig& c) {
+                     if (v.is_null()) {
+                       c.active = ActiveOptions{};
+                     } else {
+                       apply_active_overrides(v, c.active);
+                     }
+                   }};
     t["measurement_variance"] =
         optional(&ExperimentConfig::measurement_variance, "measurement_variance");
     t["process_variance"] = plain(&ExperimentConfig::process_variance, "process_variance");

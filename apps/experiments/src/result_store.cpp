@@ -185,13 +185,17 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
     const json before = episode_defining_json(previous);
     const json now = episode_defining_json(config);
     if (before != now) {
+      // Both ways: a key written only when set (`active`) may be in either.
       std::string differences;
-      for (const auto& [key, value] : now.items()) {
-        if (!before.contains(key) || before.at(key) != value) {
-          differences +=
-              fmt::format("{}{} was {}, is now {}", differences.empty() ? "" : "; ", key,
-                          before.contains(key) ? before.at(key).dump() : "unset", value.dump());
-        }
+      const auto shown = [](const json& config, const std::string& key) {
+        return config.contains(key) ? config.at(key).dump() : std::string("unset");
+      };
+      json keys = now;
+      keys.update(before);
+      for (const auto& [key, unused] : keys.items()) {
+        if (before.contains(key) && now.contains(key) && before.at(key) == now.at(key)) continue;
+        differences += fmt::format("{}{} was {}, is now {}", differences.empty() ? "" : "; ", key,
+                                   shown(before, key), shown(now, key));
       }
       throw InvalidArgumentError(
           "config",

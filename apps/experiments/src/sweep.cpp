@@ -1,5 +1,6 @@
 #include "twincal/experiments/sweep.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include <fmt/format.h>
@@ -20,6 +21,19 @@ void apply(json& config, const std::string& axis, const json& value) {
     config["controllers"] = json::array({value});
   } else if (axis == "dimension") {
     config["analytic_dimension"] = value;
+  } else if (axis.find('.') != std::string::npos) {
+    // A nested setting, e.g. "active.trajectory.change_gate": the objects on its path are
+    // created or kept, so axes on two settings of one object combine.
+    std::string pointer = "/" + axis;
+    std::replace(pointer.begin(), pointer.end(), '.', '/');
+    try {
+      config[json::json_pointer(pointer)] = value;
+    } catch (const json::exception&) {
+      throw InvalidArgumentError(
+          axis, fmt::format("axes: key \"{}\" is a path through {}; rule: each name before a "
+                            "dot must be an object of the config (e.g. active.trajectory)",
+                            axis, config.dump()));
+    }
   } else {
     config[axis] = value;
   }

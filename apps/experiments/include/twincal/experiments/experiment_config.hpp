@@ -13,6 +13,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "twincal/controllers/active/active_options.hpp"
 #include "twincal/controllers/exploration_kind.hpp"
 #include "twincal/controllers/lookahead_options.hpp"
 #include "twincal/controllers/paper_settings.hpp"
@@ -85,6 +86,10 @@ struct ExperimentConfig {
   bool keep_drawing = LookaheadOptions{}.keep_drawing;
   /// Half-width of U_t around u0 + δû, eq. (14).
   double box_half_width = LookaheadOptions{}.box_half_width;
+  /// The active controller's settings (docs/controllers.md); the JSON key `active` holds the
+  /// ones changed from their defaults (active_options_json.hpp). Its measurement_variance and
+  /// initial_variance are not read: the controller takes this config's.
+  ActiveOptions active{};
 
   // --- filter and plant ------------------------------------------------------------------------
   /// σz² the filter assumes, eq. (5b); unset: PaperSettings' (1e-4 for body and analytic,
