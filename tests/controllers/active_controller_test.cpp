@@ -630,6 +630,64 @@ Episode run(std::uint64_t seed, bool from_deviations) {
   return episode;
 }
 
+// Two controllers that differ only in erring_probe_gain (1 and `gain`), run in lockstep on one
+// episode of a d = 3 key-point twin with the paper's drift, until their controls first differ.
+// Returns that assembly's probe norms (gain 1, gain) and whether the assembly before it had a model
+// that erred; {0, 0, false} when they never differ.
+struct FirstDifference {
+  double probe = 0.0;
+  double gained_probe = 0.0;
+  bool last_model_erred = false;
+};
+
+template <typename Kind>
+FirstDifference first_difference_of_the_probe_gain(double gain) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 3;
+  KeyPointTwin<Kind> key_points(options, RandomStream(5));
+  const std::vector<AssemblyId> assemblies = key_points.assemblies();
+  const SearchedOptimumTwin<KeyPointTwin<Kind>> twin(std::move(key_points), assemblies);
+  RandomStream stream(6);
+  RandomStream drift_stream = stream.substream("drift");
+  BouncingDrift<3> drift = BouncingDrift<3>::random(3, drift_stream);
+  ActiveOptions without;
+  without.erring_probe_gain = 1.0;
+  ActiveOptions with = without;
+  with.erring_probe_gain = gain;
+  using Controller = ActiveController<SearchedOptimumTwin<KeyPointTwin<Kind>>, 3>;
+  Controller plain(twin, stream.substream("controller"), without);
+  Controller gained(twin, stream.substream("controller"), with);
+  bool erred = false;
+  for (const AssemblyId& x : assemblies) {
+    drift.advance();
+    const Vector<3> u = plain.propose(x);
+    const Vector<3> v = gained.propose(x);
+    if (u != v) {
+      return {plain.last_step().probe_norm, gained.last_step().probe_norm, erred};
+    }
+    const double z = twin.quality(x, VectorX(u - drift.offset()));
+    plain.observe(x, u, z);
+    gained.observe(x, v, z);
+    erred = plain.last_step().model_variance > 0.0;
+  }
+  return {};
+}
+
+// The gain acts only where the last model erred, and at most multiplies the probe by itself (the
+// regret's floor may have raised the plain one, the largest probe may clip the gained one).
+TEST(ActiveControllerOnContact, MultipliesTheProbeByTheGainOnlyWhereTheLastModelErred) {
+  const FirstDifference first = first_difference_of_the_probe_gain<ContactNonlinearity>(2.0);
+  ASSERT_GT(first.gained_probe, 0.0) << "the gain never changed a control";
+  EXPECT_TRUE(first.last_model_erred);
+  EXPECT_GT(first.gained_probe, first.probe);
+  EXPECT_LE(first.gained_probe, 2.0 * first.probe * (1.0 + 1e-12));
+}
+
+TEST(ActiveControllerOnAQuadraticKeyPointTwin, IsUnchangedByTheProbeGain) {
+  const FirstDifference first = first_difference_of_the_probe_gain<NoNonlinearity>(4.0);
+  EXPECT_EQ(first.gained_probe, 0.0) << "a twin whose models pass their checks changed";
+}
+
 // A refitted entry is used within relinearization_reach · h of its new centre, so its τ² is the
 // model's error at that distance, below the one it was added with (at one standard deviation of
 // P); no entry's τ² grows. Contact at d = 3, the paper's drift, 40 assemblies.

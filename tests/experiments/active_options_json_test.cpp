@@ -64,6 +64,7 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"relinearization_reach", 0.6, [](auto& o) { return o.relinearization_reach == 0.6; }},
       {"regret_probe", 0.15, [](auto& o) { return o.regret_probe == 0.15; }},
       {"regret_window", 6, [](auto& o) { return o.regret_window == 6; }},
+      {"erring_probe_gain", 1.0, [](auto& o) { return o.erring_probe_gain == 1.0; }},
       {"audit_period", 11, [](auto& o) { return o.audit_period == 11; }},
       {"audit_window", 12, [](auto& o) { return o.audit_window == 12; }},
       {"audit_misfit", 5.0, [](auto& o) { return o.audit_misfit == 5.0; }},
@@ -127,7 +128,8 @@ TEST(ApplyActiveOverrides, RefusesWhatActiveOptionsDoesNotHaveNamingTheKeyAndThe
   const std::string unknown = error_of(json::parse(R"({"regret_probe": 0.1, "regret": 1})"));
   EXPECT_NE(unknown.find("active.regret: key \"regret\" is unknown"), std::string::npos)
       << unknown;
-  EXPECT_NE(unknown.find("regret_probe, regret_window"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("regret_probe, regret_window, erring_probe_gain"), std::string::npos)
+      << unknown;
   EXPECT_NE(unknown.find("trajectory, surrogate]"), std::string::npos) << unknown;
   const std::string nested = error_of(json::parse(R"({"trajectory": {"gate": 2}})"));
   EXPECT_NE(nested.find("active.trajectory.gate: key \"gate\" is unknown"), std::string::npos)

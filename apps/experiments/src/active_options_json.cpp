@@ -23,7 +23,7 @@ struct OptionField {
   std::variant<double Options::*, Index Options::*, int Options::*, bool Options::*> member;
 };
 
-constexpr std::array<OptionField<ActiveOptions>, 20> active_fields{{
+constexpr std::array<OptionField<ActiveOptions>, 21> active_fields{{
     {"process_variance", &ActiveOptions::process_variance},
     {"min_process_variance", &ActiveOptions::min_process_variance},
     {"max_process_variance", &ActiveOptions::max_process_variance},
@@ -40,6 +40,7 @@ constexpr std::array<OptionField<ActiveOptions>, 20> active_fields{{
     {"relinearization_reach", &ActiveOptions::relinearization_reach},
     {"regret_probe", &ActiveOptions::regret_probe},
     {"regret_window", &ActiveOptions::regret_window},
+    {"erring_probe_gain", &ActiveOptions::erring_probe_gain},
     {"audit_period", &ActiveOptions::audit_period},
     {"audit_window", &ActiveOptions::audit_window},
     {"audit_misfit", &ActiveOptions::audit_misfit},

@@ -180,6 +180,8 @@ class ActiveCalibrationController {
     shifted_.resize(d, m);
     point_values_.resize(m);
     gain_.resize(d);
+    probe_signal_.resize(d);
+    probe_spread_.resize(d);
   }
 
   /// Chooses u_t for assembly x_t (steps 1–3 of the file comment).
@@ -224,6 +226,7 @@ class ActiveCalibrationController {
       model_center_ = model_center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
       if (price_by_regret) {
         design_probe();  // from the last assembly's model
+        amplify_probe_where_models_err();
         price_probe_by_regret();
         probe_designed = true;
         model_center_ += probe_vector_;
@@ -510,6 +513,21 @@ class ActiveCalibrationController {
                                   .horizon = step_.horizon,
                                   .max_probe = max_probe_};
     probe_.design(context, probe_vector_);
+  }
+
+  // Where the last model erred: the probe × erring_probe_gain (clipped to the largest probe) when
+  // the quality signal it then carries about the offset, √(pᵀHPHp) / z*, reaches σz. Below that
+  // (the door: its quality hardly depends on the offset) a larger probe teaches nothing and costs
+  // all the same.
+  void amplify_probe_where_models_err() {
+    const double gain = options_.erring_probe_gain;
+    if (gain == 1.0) return;
+    probe_signal_.noalias() = model_.hessian * probe_vector_;
+    probe_spread_.noalias() = covariance_ * probe_signal_;
+    const double signal = gain * std::sqrt(std::max(0.0, probe_signal_.dot(probe_spread_)));
+    if (!(signal >= std::sqrt(options_.measurement_variance) * report_.optimal_quality)) return;
+    probe_vector_ *= gain;
+    probe_vector_ = probe_vector_.cwiseMax(-max_probe_).cwiseMin(max_probe_);
   }
 
   // Scales the probe up, where its model cost pᵀHp is smaller, to regret_probe × the regret the
@@ -849,6 +867,8 @@ class ActiveCalibrationController {
   ControlVector center_;        // u0
   ControlVector model_center_;  // where the model is fitted: the expected twin-frame control
   ControlVector probe_vector_;
+  ControlVector probe_signal_;  // H p and P H p: amplify_probe_where_models_err()'s workspace
+  ControlVector probe_spread_;
   ControlVector control_;
   MatrixX check_points_;
   QuadraticModel<N> model_;

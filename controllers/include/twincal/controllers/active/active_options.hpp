@@ -100,6 +100,21 @@ struct ActiveOptions {
   /// check are unchanged.
   double regret_probe = 0.1;
   Index regret_window = 5;
+  /// Where the last assembly's model failed its check, the Probe policy's probe is multiplied by
+  /// erring_probe_gain (then clipped to max_probe_fraction) before it is priced by regret, if the
+  /// quality signal it then carries about the offset, √(pᵀHPHp) / z*, reaches σz: where models
+  /// err P is overconfident and the lost runs are the tail of a broad error distribution, and a
+  /// twin whose quality hardly depends on the offset (the door) keeps its probe, which there
+  /// would be pure cost (door-contact 0.0007 → 0.0018 with a gain of 4 and no such test). 1: off.
+  /// Measured on 2026-11-28 (docs/reproduction.md, "Black-box twins"), sums of the ratios to the
+  /// baseline (lost runs), gain 1 → 2: the 60 development cells 9.41 (22) → 8.67 (17), the held-out
+  /// and fresh analytic pairs (36 cells) 5.08 (17) → 4.92 (6), a user's four shapes on three
+  /// seed pairs at d = 3 and 12 5.33 (24) → 4.61 (23); after choosing, on pairs never used:
+  /// analytic 83/89 1.89 (4) → 2.02 (5), the shapes on 53/59 1.56 (5) → 1.19 (5). Gain 4 lost
+  /// fewer analytic runs (7 of 600) but more of the shapes' at d = 3 (15 → 23); 8 cost residual.
+  /// Twins whose models pass their checks (every quadratic twin, the controllers' twin of every
+  /// twin ≠ plant case here) are unchanged.
+  double erring_probe_gain = 2.0;
   /// Do no harm, measured: where the model failed its check, every audit_period-th corrected
   /// assembly is left uncorrected (or the reverse while the correction is off; a correction that
   /// halves the regret is audited four times less often), and the correction stays on only while
@@ -158,6 +173,7 @@ struct ActiveOptions {
          rule::non_negative_finite("relinearization_reach", relinearization_reach),
          rule::non_negative_finite("regret_probe", regret_probe),
          rule::at_least("regret_window", regret_window, Index{1}),
+         rule::positive_finite("erring_probe_gain", erring_probe_gain),
          DoNoHarmAudit::settings_problem(audit_period, audit_window, "audit_period",
                                          "audit_window"),
          rule::finite_at_least("audit_misfit", audit_misfit, 1.0),
