@@ -187,8 +187,8 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
     if (before != now) {
       // Both ways: a key written only when set (`active`) may be in either.
       std::string differences;
-      const auto shown = [](const json& config, const std::string& key) {
-        return config.contains(key) ? config.at(key).dump() : std::string("unset");
+      const auto shown = [](const json& settings, const std::string& key) {
+        return settings.contains(key) ? settings.at(key).dump() : std::string("unset");
       };
       json keys = now;
       keys.update(before);
