@@ -9,10 +9,10 @@
 #include <string>
 #include <utility>
 
-#include <nlohmann/json.hpp>
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
 #include "python_twin.hpp"

@@ -22,10 +22,10 @@ TEST(ActiveOverrides, OfTheDefaultsIsAnEmptyObject) {
 
 TEST(ActiveOverrides, RoundTripsEveryKindOfSettingAndBothSections) {
   ActiveOptions options;
-  options.regret_probe = 0.3;                  // double
-  options.audit_period = 7;                    // Index
-  options.fit_at_audited_arm = false;          // bool
-  options.trajectory.max_iterations = 9;       // int
+  options.regret_probe = 0.3;                        // double
+  options.audit_period = 7;                          // Index
+  options.fit_at_audited_arm = false;                // bool
+  options.trajectory.max_iterations = 9;             // int
   options.trajectory.velocity_fraction = 0.1 / 3.0;  // not a short decimal
   options.surrogate.hessian_refresh = 4;
   const json written = active_overrides(options);
@@ -87,13 +87,11 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
        [](auto& o) { return o.trajectory.change_velocity_floor_fraction == 1e-3; }},
       {"trajectory.significance", 2.0, [](auto& o) { return o.trajectory.significance == 2.0; }},
       {"trajectory.max_history", 64, [](auto& o) { return o.trajectory.max_history == 64; }},
-      {"trajectory.max_iterations", 30,
-       [](auto& o) { return o.trajectory.max_iterations == 30; }},
+      {"trajectory.max_iterations", 30, [](auto& o) { return o.trajectory.max_iterations == 30; }},
       {"trajectory.step_tolerance", 1e-9,
        [](auto& o) { return o.trajectory.step_tolerance == 1e-9; }},
       {"surrogate.step_fraction", 0.04, [](auto& o) { return o.surrogate.step_fraction == 0.04; }},
-      {"surrogate.hessian_refresh", 10,
-       [](auto& o) { return o.surrogate.hessian_refresh == 10; }},
+      {"surrogate.hessian_refresh", 10, [](auto& o) { return o.surrogate.hessian_refresh == 10; }},
       {"surrogate.tolerance", 2e-3, [](auto& o) { return o.surrogate.tolerance == 2e-3; }},
       {"surrogate.from_deviations", false, [](auto& o) { return !o.surrogate.from_deviations; }},
   };
@@ -126,8 +124,7 @@ std::string error_of(const json& overrides) {
 
 TEST(ApplyActiveOverrides, RefusesWhatActiveOptionsDoesNotHaveNamingTheKeyAndTheRule) {
   const std::string unknown = error_of(json::parse(R"({"regret_probe": 0.1, "regret": 1})"));
-  EXPECT_NE(unknown.find("active.regret: key \"regret\" is unknown"), std::string::npos)
-      << unknown;
+  EXPECT_NE(unknown.find("active.regret: key \"regret\" is unknown"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("regret_probe, regret_window, erring_probe_gain"), std::string::npos)
       << unknown;
   EXPECT_NE(unknown.find("trajectory, surrogate]"), std::string::npos) << unknown;
@@ -135,8 +132,7 @@ TEST(ApplyActiveOverrides, RefusesWhatActiveOptionsDoesNotHaveNamingTheKeyAndThe
   EXPECT_NE(nested.find("active.trajectory.gate: key \"gate\" is unknown"), std::string::npos)
       << nested;
   const std::string owned = error_of(json::parse(R"({"measurement_variance": 1e-4})"));
-  EXPECT_NE(owned.find("its own, \"measurement_variance\", beside it"), std::string::npos)
-      << owned;
+  EXPECT_NE(owned.find("its own, \"measurement_variance\", beside it"), std::string::npos) << owned;
   EXPECT_NE(error_of(json::parse(R"({"initial_variance": 1e-3})")), "");
 }
 
@@ -188,8 +184,7 @@ TEST(ExpandSweep, SetsANestedSettingByItsDottedPath) {
   EXPECT_EQ(groups[0].config.active.trajectory.change_gate, 1.5);
   EXPECT_EQ(groups[1].config.active.trajectory.change_gate, 3.0);
   EXPECT_EQ(groups[1].config.active.regret_probe, 0.2);  // the base's other settings stay
-  EXPECT_THROW((void)expand_sweep(json::parse(
-                   R"({"base": {"runs": 2}, "axes": {"runs.x": [1]}})")),
+  EXPECT_THROW((void)expand_sweep(json::parse(R"({"base": {"runs": 2}, "axes": {"runs.x": [1]}})")),
                InvalidArgumentError);
 }
 

@@ -161,8 +161,7 @@ TEST_F(ResultStoreOfAnalyticGroup, RefusesAGroupRunWithOtherSettingsNamingThemBo
     ADD_FAILURE() << "a group run with other settings was resumed";
   } catch (const InvalidArgumentError& error) {
     const std::string message = error.what();
-    EXPECT_NE(message.find("(active was {\"regret_probe\":0.2}, is now unset)"),
-              std::string::npos)
+    EXPECT_NE(message.find("(active was {\"regret_probe\":0.2}, is now unset)"), std::string::npos)
         << message;
   }
 }

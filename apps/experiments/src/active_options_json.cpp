@@ -72,8 +72,7 @@ constexpr std::array<OptionField<QuadraticSurrogateOptions>, 4> surrogate_fields
 }};
 
 // The settings that are the config's own keys, not the active object's.
-constexpr std::array<std::string_view, 2> config_owned{"measurement_variance",
-                                                       "initial_variance"};
+constexpr std::array<std::string_view, 2> config_owned{"measurement_variance", "initial_variance"};
 
 template <typename Options, std::size_t Size>
 void write_changed(nlohmann::json& out, const Options& options,
