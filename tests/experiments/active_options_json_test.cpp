@@ -78,6 +78,8 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"trajectory.change_gate", 2.5, [](auto& o) { return o.trajectory.change_gate == 2.5; }},
       {"trajectory.change_window", 3, [](auto& o) { return o.trajectory.change_window == 3; }},
       {"trajectory.misfit_window", 20, [](auto& o) { return o.trajectory.misfit_window == 20; }},
+      {"trajectory.max_misfit_scale", 25.0,
+       [](auto& o) { return o.trajectory.max_misfit_scale == 25.0; }},
       {"trajectory.change_lag", 7, [](auto& o) { return o.trajectory.change_lag == 7; }},
       {"trajectory.change_position_spread", 8.0,
        [](auto& o) { return o.trajectory.change_position_spread == 8.0; }},

@@ -214,11 +214,15 @@ TEST(ConstantVelocityEstimator, AnExactModelRefittedWhereItIsUsedLeavesTheFit) {
 // change of velocity at every assembly: the gate is in units of the history's own misfit.
 // Without the scale (misfit_window = 0) the same data restart the fit again and again; so they
 // do when the models claim to be exact (τ² = 0: an exact model's misfit is what the gate is for).
+// With the scale bounded (max_misfit_scale 10 < s² ≈ 25) the gate opens more often than with
+// the unbounded one, and still far less often than without the scale.
 TEST(ConstantVelocityEstimator, APersistentMisfitIsNotAChangeOfVelocity) {
-  const auto changes = [](Index misfit_window) {
+  constexpr double unbounded = std::numeric_limits<double>::infinity();
+  const auto changes = [](Index misfit_window, double max_misfit_scale) {
     DriftScenario scenario;
-    ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4,
-                                           {.misfit_window = misfit_window});
+    ConstantVelocityEstimator<3> estimator(
+        Eigen::Vector3d::Constant(2.0), 1e-4,
+        {.misfit_window = misfit_window, .max_misfit_scale = max_misfit_scale});
     estimator.reset(0, Eigen::Vector3d::Zero());
     RandomStream noise(11);
     const Eigen::Vector3d velocity(0.005, -0.01, 0.0075);
@@ -230,8 +234,53 @@ TEST(ConstantVelocityEstimator, APersistentMisfitIsNotAChangeOfVelocity) {
     }
     return estimator.changes();
   };
-  EXPECT_LE(changes(25), 2);
-  EXPECT_GE(changes(0), 10);
+  EXPECT_LE(changes(25, unbounded), 2);
+  EXPECT_GE(changes(0, unbounded), 10);
+  const Index bounded = changes(25, ConstantVelocityOptions{}.max_misfit_scale);
+  EXPECT_GT(bounded, changes(25, unbounded));
+  EXPECT_LT(bounded, changes(0, unbounded));
+}
+
+// A turn of the drift under a persistent misfit within the bound: the models err (2σz, s² ≈ 4)
+// and the drift turns back at assembly 40. Unbounded, s² climbs with the residuals of the
+// missed turn (past 50) and raises the gate with it, which then never fires; bounded by
+// max_misfit_scale (10), the gate sees the turn and the estimate's error after it falls by
+// more than a third.
+TEST(ConstantVelocityEstimator, ABoundOnTheMisfitScaleSeesATurnItWouldHide) {
+  struct AfterTurn {
+    Index changes = 0;
+    double error = 0.0;
+    double scale = 0.0;
+  };
+  const auto after_turn = [](double max_misfit_scale) {
+    DriftScenario scenario;
+    ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4,
+                                           {.max_misfit_scale = max_misfit_scale});
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    RandomStream noise(11);
+    const Eigen::Vector3d velocity(0.005, -0.01, 0.0075);
+    AfterTurn result;
+    for (Index t = 0; t < 70; ++t) {
+      const double travelled = static_cast<double>(t < 40 ? t : 80 - t);
+      const Eigen::Vector3d offset = travelled * velocity;
+      const Eigen::Vector3d u = scenario.next(t, estimator.position());
+      const double z = scenario.plant(u, offset) + 0.02 * noise.normal();
+      const Index before = estimator.changes();
+      estimator.add(t, scenario.model, u, z, 1e-6);  // a model that errs, by less than it does
+      estimator.fit(t + 1);
+      if (t < 40) continue;
+      result.changes += estimator.changes() - before;
+      result.error += (estimator.position() - offset).norm() / 30.0;
+    }
+    result.scale = estimator.misfit_scale();
+    return result;
+  };
+  const AfterTurn bounded = after_turn(ConstantVelocityOptions{}.max_misfit_scale);
+  const AfterTurn unbounded = after_turn(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(unbounded.changes, 0);
+  EXPECT_GT(unbounded.scale, 50.0);
+  EXPECT_GE(bounded.changes, 1);
+  EXPECT_LT(bounded.error, 0.65 * unbounded.error);
 }
 
 // prediction_scale() sees a plant its models do not explain even when they claim to be exact:
@@ -426,6 +475,14 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
             "initial_position_fraction: value is 0.6; rule: must be <= position_fraction = 0.5");
   EXPECT_EQ(ConstantVelocityOptions{.misfit_window = 2}.validate(),
             "misfit_window: value is 2; rule: 0 (the gate in units of σz alone) or >= 3");
+  EXPECT_EQ(ConstantVelocityOptions{.max_misfit_scale = 0.5}.validate(),
+            "max_misfit_scale: value is 0.5; rule: must be >= 1 (infinity: unbounded)");
+  EXPECT_TRUE(ConstantVelocityOptions{.max_misfit_scale = std::numeric_limits<double>::quiet_NaN()}
+                  .validate()
+                  .has_value());
+  EXPECT_FALSE(ConstantVelocityOptions{.max_misfit_scale = std::numeric_limits<double>::infinity()}
+                   .validate()
+                   .has_value());
   EXPECT_EQ(ConstantVelocityOptions{.max_history = 4}.validate(),
             "max_history: value is 4; rule: must be > change_lag = 6");
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d(2.0, 0.0, 2.0), 1e-4),

@@ -27,7 +27,8 @@
 /// Misfit. Residuals larger than σz² + τ_k² explains (a twin whose models err more than their
 /// checks say) are measured by the median normalized innovation of the last assemblies, and the
 /// change gate and the significance test are taken in those units (ConstantVelocityOptions::
-/// misfit_window).
+/// misfit_window); for the gate, at most max_misfit_scale of them, since the unit is measured on
+/// the residuals the gate judges.
 ///
 /// Relinearization. A model fitted where the estimate put an assembly is used, after later
 /// fits, where they put it; the owner can refit it there (entry_point(), relinearize()), which
@@ -146,8 +147,8 @@ class ConstantVelocityEstimator {
   void fit(Index time);
 
   /// s², the misfit of the history's entries whose model errs, in units of their residuals'
-  /// variance σz² + τ² (>= 1; ConstantVelocityOptions::misfit_window): the unit of the change
-  /// gate and the significance test.
+  /// variance σz² + τ² (>= 1; ConstantVelocityOptions::misfit_window): the unit of the
+  /// significance test, and of the change gate up to ConstantVelocityOptions::max_misfit_scale.
   [[nodiscard]] double misfit_scale() const noexcept { return model_misfit_.scale(); }
   /// How badly the estimator predicts the plant: the median normalized innovation ν²/S of the
   /// last misfit_window assemblies, every entry (S = σz² + τ² + the estimate's variance along
@@ -362,7 +363,7 @@ class ConstantVelocityEstimator {
   }
 
   // The root-mean-square normalized residual of the last change_window assemblies beyond the
-  // gate.
+  // gate, in units of the misfit scale bounded by max_misfit_scale.
   bool recent_misfit(const StateVector& state, Index time) {
     const Index window = options_.change_window;
     double sum = 0.0;
@@ -371,7 +372,8 @@ class ConstantVelocityEstimator {
       sum += history_.weights(slot(i)) * e * e;
     }
     const double mean = sum / static_cast<double>(window);
-    return mean > options_.change_gate * options_.change_gate * model_misfit_.scale();
+    return mean > options_.change_gate * options_.change_gate *
+                      std::min(model_misfit_.scale(), options_.max_misfit_scale);
   }
 
   // A change of velocity: the prior becomes the estimate of change_lag fits ago, widened along

@@ -45,6 +45,15 @@ struct ConstantVelocityOptions {
   /// assembly — measured: 64–76 restarts per 100 assemblies on contact twins at d = 6 and 12,
   /// about 1 with the scale; 2 on quadratic twins either way (docs/reproduction.md).
   Index misfit_window = 25;
+  /// The change gate's unit is s², at most `max_misfit_scale`. The scale climbs with the
+  /// residuals it measures, so an estimate that misses a turn of the drift raises its own gate:
+  /// traced in lost runs, s² reached 57–460 and kept the gate shut for 57–73 assemblies. Beyond
+  /// the bound the misfit is taken to be the estimate's, not its models'. 10 rather than
+  /// unbounded: runs that lost the offset, over the analytic family's 96 development and
+  /// held-out cells 23 → 18 and over the user's shapes on five seed pairs 38 → 14, the residual
+  /// unchanged; 3 and 5 restart the fit too often on contact, 30 and 100 leave the soft stops
+  /// lost (docs/reproduction.md, "A bound on the misfit's unit"). Infinity: unbounded.
+  double max_misfit_scale = 10.0;
   /// At a change the fit restarts from its estimate of `change_lag` assemblies ago (before the
   /// change could bias it), keeping only the assemblies measured since then.
   Index change_lag = 6;
@@ -82,6 +91,8 @@ struct ConstantVelocityOptions {
          rule::non_negative_finite("significance", significance),
          rule::check(misfit_window == 0 || misfit_window >= 3, "misfit_window", misfit_window,
                      "0 (the gate in units of σz alone) or >= 3"),
+         rule::check(max_misfit_scale >= 1.0, "max_misfit_scale", max_misfit_scale,
+                     "must be >= 1 (infinity: unbounded)"),
          rule::check(max_history > change_lag, "max_history", max_history,
                      "must be > change_lag = {}", change_lag),
          rule::at_least("max_iterations", max_iterations, 1),
