@@ -526,7 +526,12 @@ class ActiveCalibrationController {
     probe_spread_.noalias() = covariance_ * probe_signal_;
     const double signal = gain * std::sqrt(std::max(0.0, probe_signal_.dot(probe_spread_)));
     if (!(signal >= std::sqrt(options_.measurement_variance) * report_.optimal_quality)) return;
-    probe_vector_ *= gain;
+    scale_probe(gain);
+  }
+
+  // The probe × factor, clipped to the largest probe.
+  void scale_probe(double factor) {
+    probe_vector_ *= factor;
     probe_vector_ = probe_vector_.cwiseMax(-max_probe_).cwiseMin(max_probe_);
   }
 
@@ -540,13 +545,13 @@ class ActiveCalibrationController {
     const double noise = 2.0 * report_.optimal_quality * std::sqrt(options_.measurement_variance);
     const double regret =
         median_of_first(plant_regrets_, plant_regrets_.size(), regret_order_) - 2.0 * noise;
-    const double cost = probe_vector_.dot(model_.hessian * probe_vector_);
+    probe_signal_.noalias() = model_.hessian * probe_vector_;
+    const double cost = probe_vector_.dot(probe_signal_);
     if (!(regret > 0.0) || !(cost > 0.0)) return;
     step_.plant_regret = regret;
     const double wanted = options_.regret_probe * regret;
     if (cost >= wanted) return;
-    probe_vector_ *= std::sqrt(wanted / cost);
-    probe_vector_ = probe_vector_.cwiseMax(-max_probe_).cwiseMin(max_probe_);
+    scale_probe(std::sqrt(wanted / cost));
   }
 
   // Fits the quadratic model at model_center_ and checks it at model_center_ ± (2·sqrt(diag P)
@@ -867,7 +872,7 @@ class ActiveCalibrationController {
   ControlVector center_;        // u0
   ControlVector model_center_;  // where the model is fitted: the expected twin-frame control
   ControlVector probe_vector_;
-  ControlVector probe_signal_;  // H p and P H p: amplify_probe_where_models_err()'s workspace
+  ControlVector probe_signal_;  // H p and P H p: the probe's workspace (gain, regret pricing)
   ControlVector probe_spread_;
   ControlVector control_;
   MatrixX check_points_;
