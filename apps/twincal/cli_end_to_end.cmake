@@ -102,7 +102,7 @@ twincal_ok(summary --results "${WORK_DIR}/a")
 if(NOT output MATCHES "analytic/ABC +w=1 +2 ")
   message(FATAL_ERROR "summary lacks the w=1 row:\n${output}")
 endif()
-foreach(command run paper scaling sweep plot summary)
+foreach(command run paper scaling sweep plot summary trace)
   twincal_ok(${command} --help)
   if(NOT output MATCHES "usage: twincal ${command}")
     message(FATAL_ERROR "twincal ${command} --help printed:\n${output}")
@@ -120,6 +120,27 @@ foreach(line
     message(FATAL_ERROR "twincal run --help lacks '${line}':\n${output}")
   endif()
 endforeach()
+
+# 6b. `twincal trace` runs one episode of the study exactly as `run` did: its z column is the
+# study's, digit for digit; two controllers are refused.
+twincal_ok(trace --case analytic --locators ABC --assemblies 10 --controller w=1 --run 1
+  --out "${WORK_DIR}/trace.csv")
+execute_process(COMMAND "${PYTHON}" -c "
+import csv, sys
+trace = [row['z'] for row in csv.DictReader(open(sys.argv[1]))]
+study = [row['z'] for row in csv.DictReader(open(sys.argv[2]))
+         if row['group'] == 'analytic/ABC' and row['controller'] == 'w=1' and row['run'] == '1']
+sys.exit(0 if len(trace) == 10 and trace == study else f'trace {trace} != study {study}')
+" "${WORK_DIR}/trace.csv" "${WORK_DIR}/a/assemblies.csv" RESULT_VARIABLE status
+  ERROR_VARIABLE err)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "twincal trace is not the study's episode: ${err}")
+endif()
+execute_process(COMMAND "${TWINCAL}" trace --case analytic --controllers baseline,active
+  RESULT_VARIABLE status OUTPUT_QUIET ERROR_VARIABLE err)
+if(status EQUAL 0 OR NOT err MATCHES "names 2 controllers; rule: trace runs one")
+  message(FATAL_ERROR "trace of two controllers was not refused (${status}): ${err}")
+endif()
 
 # 7. The ready-made sweeps are valid (configs, locator sets) and not empty.
 file(GLOB sweeps "${SWEEPS_DIR}/*.json")

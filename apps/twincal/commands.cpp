@@ -30,6 +30,7 @@
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/experiments/config_file.hpp"
+#include "twincal/experiments/episode_trace.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
 #include "twincal/experiments/result_merge.hpp"
@@ -601,6 +602,58 @@ matplotlib); the script is $TWINCAL_PLOT_SCRIPT, else the installed or the sourc
     throw Error("twincal_plot.py",
                 fmt::format("twincal_plot.py: failed (status {}): {}", status, command));
   }
+  return 0;
+}
+
+int trace_command(std::span<const std::string> args) {
+  static const std::string help = fmt::format(
+      R"(usage: twincal trace [options]
+
+Runs one episode — one controller, run R of one configuration — exactly as `twincal run` runs
+it (the same settings and seeds give the same digits) and writes one CSV row per assembly as it
+goes: t, the assembly (upper, lower), z, z*, the relative residual, the estimate's error
+|du_hat - du*|, the offset's norm |du*|, tr P, the twin evaluations, then the controller's step
+report (the active controller's: its model's error and tau^2, its probe, the change gate's
+reading, the misfit and prediction scales, whether it corrected; docs/cli.md). A summary line
+with the lost rule's means goes to stderr. Nothing is written to a results directory.
+
+  --case NAME            body | door | body-contact | door-contact | analytic | external
+                         (default body)
+  --locators SET         A | B | C | ABC | all | names or indices joined by commas (default A)
+  --controller LABEL     the controller (default active): any label of --controllers
+  --run R                run R of `twincal run --runs N` (N > R; default 0)
+  --out FILE.csv         where the CSV goes (default: standard output)
+{})",
+      config_options_help());
+  Arguments arguments(args, {"help"});
+  if (wants_help(arguments, help.c_str())) return 0;
+  ExperimentConfig config = read_config(arguments, {ControllerSpec::active()});
+  if (const auto v = arguments.text("case")) config.twin_case = parse_enum<TwinCase>(*v, "--case");
+  if (const auto v = arguments.text("locators")) config.locators = *v;
+  const Index run = arguments.integer("run").value_or(0);
+  const auto out = arguments.text("out");
+  arguments.require_all_read();
+  if (config.controllers.size() != 1) {
+    throw InvalidArgumentError(
+        "--controller", fmt::format("--controller: names {} controllers; rule: trace runs one",
+                                    config.controllers.size()));
+  }
+  const CaseTwin twin = make_case_twin(config);
+  std::ofstream file;
+  if (out) {
+    file.open(*out);
+    if (!file) throw Error(*out, fmt::format("{}: cannot be written", *out));
+  }
+  std::ostream& stream = out ? static_cast<std::ostream&>(file) : std::cout;
+  const EpisodeResult result =
+      write_episode_trace(twin, config, config.controllers.front(), run, stream);
+  fmt::print(stderr,
+             "twincal trace: {} {} run {} (seed {}): {} assemblies, mean relative residual {:.4g}, "
+             "mean |du_hat - du*| {:.4g}; second half {:.4g} against |du*| {:.4g}: {}{}\n",
+             result.group, result.controller, result.run, result.run_seed, result.steps,
+             result.relative_residual, result.estimation_error, result.estimate_error_second_half,
+             result.offset_norm_second_half, result.lost ? "lost" : "not lost",
+             result.failure.empty() ? std::string() : "; failed: " + result.failure);
   return 0;
 }
 

@@ -15,5 +15,6 @@ int summary_command(std::span<const std::string> args);
 int merge_command(std::span<const std::string> args);
 int serve_command(std::span<const std::string> args);
 int history_command(std::span<const std::string> args);
+int trace_command(std::span<const std::string> args);
 
 }  // namespace twincal::cli

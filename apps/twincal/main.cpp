@@ -31,6 +31,8 @@ commands:
   serve     the online controller for a cell: JSON lines on stdin/stdout or TCP, its
             history in SQLite, resumable after a crash (docs/serve.md)
   history   export a serve session's history as CSV (`twincal plot --history` draws it)
+  trace     one episode of one controller as CSV, a row per assembly with the controller's
+            own report (why it corrected, the change gate's reading): for tracing a lost run
 
 Results directories are resumable: rerunning a command skips the finished episodes.
 run, paper, scaling and sweep run over the ranks of an MPI job when started by mpirun or srun
@@ -65,6 +67,7 @@ int main(int argc, char** argv) {
     if (command == "merge") return twincal::cli::merge_command(rest);
     if (command == "serve") return twincal::cli::serve_command(rest);
     if (command == "history") return twincal::cli::history_command(rest);
+    if (command == "trace") return twincal::cli::trace_command(rest);
     fmt::print(stderr, "twincal: unknown command \"{}\"\n\n{}", command, usage);
     return 2;
   } catch (const std::bad_alloc&) {

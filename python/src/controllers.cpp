@@ -4,6 +4,8 @@
 // per-component w-controllers (Sec. 4) and the active controller, each instantiated once, at
 // Dynamic size. propose() and observe() run without the GIL; a Python twin re-acquires it for
 // each batch.
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -81,6 +83,29 @@ py::dict report_dict(const ProposalReport& r) {
   out["loss"] = r.loss;
   out["quality_evaluations"] = r.quality_evaluations;
   out["fallback"] = r.fallback;
+  return out;
+}
+
+// A step report (AnyController::step_report()'s JSON) as a dict: NaN (null) as float("nan"),
+// ±∞ ("inf", "-inf") as floats, booleans and counts as themselves.
+py::dict step_dict(const nlohmann::json& report) {
+  py::dict out;
+  for (const auto& item : report.items()) {
+    const nlohmann::json& value = item.value();
+    const char* key = item.key().c_str();
+    if (value.is_boolean()) {
+      out[key] = value.get<bool>();
+    } else if (value.is_number_integer()) {
+      out[key] = value.get<std::int64_t>();
+    } else if (value.is_number()) {
+      out[key] = value.get<double>();
+    } else if (value.is_null()) {
+      out[key] = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      out[key] = value.get<std::string>() == "inf" ? std::numeric_limits<double>::infinity()
+                                                   : -std::numeric_limits<double>::infinity();
+    }
+  }
   return out;
 }
 
@@ -163,6 +188,17 @@ py::class_<ControllerObject<C>> bind_controller(py::module_& module, const char*
         "last_proposal", [](const Object& o) { return report_dict(o.controller->last_proposal()); },
         "What the last propose() did: u0, z*, the default control, the candidates, the chosen "
         "one's losses, the Q-evaluations, and why it fell back, if it did.");
+  }
+  if constexpr (requires(const C& c) { active_step_report_to_json(c.last_step()); }) {
+    cls.def_property_readonly(
+        "last_step",
+        [](const Object& o) {
+          return step_dict(active_step_report_to_json(o.controller->last_step()));
+        },
+        "What the last step did beyond last_proposal (ActiveStepReport, docs/controllers.md): "
+        "the model's error and tau^2, the probe, the change gate's reading (change_ratio > 1: a "
+        "change of velocity declared), the misfit and prediction scales, whether the control "
+        "was corrected and audited; NaN where the estimator did not run.");
   }
   return cls;
 }

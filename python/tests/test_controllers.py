@@ -265,3 +265,18 @@ def test_a_twin_without_optimum_gets_it_searched():
     paper = twincal.PaperController(twin, w=1.0, seed=1)
     residual, _ = episode(paper, twin, steps=5)
     assert np.isfinite(residual)
+
+
+def test_the_active_controller_reports_its_last_step():
+    twin = QuadraticTwin(2)
+    controller = twincal.ActiveController(twin, seed=5)
+    episode(controller, twin, steps=20)
+    step = controller.last_step
+    assert step["quadratic"] is True
+    assert 1 <= step["history"] <= 20
+    assert step["misfit_scale"] >= 1.0 and step["prediction_scale"] >= 1.0
+    # The change gate's reading is consulted on a history this long; above 1 only at a change.
+    assert np.isfinite(step["change_ratio"])
+    assert (step["change_ratio"] > 1.0) == step["velocity_change"]
+    assert isinstance(step["corrected"], bool)
+    assert not hasattr(twincal.PaperController(twin), "last_step")

@@ -140,6 +140,10 @@ TEST(ActiveController, FallsBackToSigmaPointsForATwinThatIsNotQuadraticWhenAsked
     EXPECT_FALSE(controller.last_step().quadratic) << "assembly " << t;
     controller.observe(x, u, twin.quality(x, VectorX(u - offset)));
     ASSERT_TRUE(controller.offset_estimate().allFinite());
+    // No estimator ran: its readings are NaN, not a number that was never measured.
+    EXPECT_TRUE(std::isnan(controller.last_step().change_ratio));
+    EXPECT_TRUE(std::isnan(controller.last_step().misfit_scale));
+    EXPECT_TRUE(std::isnan(controller.last_step().prediction_scale));
   }
   // Sigma points keep the estimate bounded near the offset's scale.
   EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
@@ -161,6 +165,17 @@ TEST(ActiveController, WeighsTheModelErrorOfATwinThatIsNotQuadratic) {
     EXPECT_TRUE(controller.last_step().hessian_refitted) << "a failed check refits H";
     controller.observe(x, u, twin.quality(x, VectorX(u - offset)));
     ASSERT_TRUE(controller.offset_estimate().allFinite());
+    // The estimator's readings, as it defines them: scales of at least 1, and the gate's
+    // reading once the history is long enough to consult it (above 1 exactly at a change).
+    const ActiveStepReport& step = controller.last_step();
+    EXPECT_GE(step.misfit_scale, 1.0) << "assembly " << t;
+    EXPECT_GE(step.prediction_scale, 1.0) << "assembly " << t;
+    if (step.velocity_change) {
+      EXPECT_GT(step.change_ratio, 1.0) << "assembly " << t;
+    } else if (step.history >= controller.options().trajectory.change_window + 3) {
+      EXPECT_LE(step.change_ratio, 1.0) << "assembly " << t;
+      EXPECT_GE(step.change_ratio, 0.0) << "assembly " << t;
+    }
   }
   EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
 }

@@ -84,6 +84,27 @@ TEST(AnyController, AControllerThatDoesNotEstimateReportsZeroAndNaN) {
   EXPECT_EQ(estimate, VectorX::Zero(2));
   EXPECT_TRUE(covariance.array().isNaN().all());
   EXPECT_TRUE(std::isnan(any.offset_covariance_trace()));
+  EXPECT_EQ(any.step_report(), nlohmann::json::object()) << "it reports nothing more";
+}
+
+// The active controller's step report is its last_step(), field for field, after every step.
+TEST(AnyController, ReportsTheActiveControllersLastStep) {
+  const AnalyticTwin twin = make_twin(3);
+  const RandomStream stream(12);
+  ActiveController<AnalyticTwin, Dynamic> direct(twin, stream);
+  AnyController any(ActiveController<AnalyticTwin, Dynamic>(twin, stream), 3);
+  const VectorX offset = VectorX::Constant(3, 0.05);
+  VectorX control(3);
+  for (const AssemblyId& x : any_controller_assemblies()) {
+    any.propose(x, control);
+    const VectorX expected = direct.propose(x);
+    const double z = twin.quality(x, VectorX(control - offset));
+    any.observe(x, control, z);
+    direct.observe(x, expected, z);
+    EXPECT_EQ(any.step_report(), active_step_report_to_json(direct.last_step()));
+  }
+  EXPECT_TRUE(any.step_report()["quadratic"].get<bool>());
+  EXPECT_EQ(any.step_report()["history"], 6);
 }
 
 }  // namespace

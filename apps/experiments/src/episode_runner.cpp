@@ -112,7 +112,8 @@ AnyController make_controller(const EpisodeSetup& setup, const ControllerSpec& s
 // same arithmetic.
 template <int N>
 void simulate(AnyController& controller, const EpisodeSetup& setup,
-              const std::vector<AssemblyId>& order, EpisodeResult& result) {
+              const std::vector<AssemblyId>& order, EpisodeResult& result,
+              const EpisodeStepObserver& observer) {
   const CaseTwin& twin = *setup.twin;
   const ExperimentConfig& config = *setup.config;
   const Index d = twin.control_dimension();
@@ -168,6 +169,7 @@ void simulate(AnyController& controller, const EpisodeSetup& setup,
       if (result.diverged_at < 0) result.diverged_at = t;
       break;
     }
+    if (observer) observer(t, result, controller);
     error = result.estimate.col(t) - result.offset.col(t);
     const double distance = error.norm();
     residuals += (result.z(t) - result.z_star(t)) / result.z_star(t);
@@ -239,6 +241,12 @@ bool caused_by_twin_failure(const std::exception& error) {
 
 EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
                           const ControllerSpec& controller, Index run) {
+  return run_episode(twin, config, controller, run, EpisodeStepObserver{});
+}
+
+EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
+                          const ControllerSpec& controller, Index run,
+                          const EpisodeStepObserver& observer) {
   detail::require_runnable(twin, config, controller, run);
   const Index available = std::ssize(twin.assemblies());
   if (config.assemblies > available) {
@@ -260,11 +268,11 @@ EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
   detail::size_result(result, d, config.assemblies);
   AnyController episode_controller = detail::make_controller(setup, controller);
   if (d == 1) {
-    detail::simulate<1>(episode_controller, setup, order, result);
+    detail::simulate<1>(episode_controller, setup, order, result, observer);
   } else if (d == 3) {
-    detail::simulate<3>(episode_controller, setup, order, result);
+    detail::simulate<3>(episode_controller, setup, order, result, observer);
   } else {
-    detail::simulate<Dynamic>(episode_controller, setup, order, result);
+    detail::simulate<Dynamic>(episode_controller, setup, order, result, observer);
   }
   assess_lost(result);
   return result;

@@ -20,11 +20,6 @@ constexpr const char* csv_header =
     "group,controller,run,t,upper,lower,z,z_star,relative_residual,control,estimate,offset,"
     "estimation_error,trace_p,q_evaluations,seconds";
 
-// Shortest form that reads back to the same double; "nan" for a missing value.
-std::string number(double value) {
-  return std::isnan(value) ? std::string("nan") : fmt::format("{}", value);
-}
-
 json number_json(double value) { return std::isnan(value) ? json(nullptr) : json(value); }
 
 template <typename Column>
@@ -32,7 +27,7 @@ std::string joined(const Column& column) {
   std::string out;
   for (Index i = 0; i < column.size(); ++i) {
     if (i > 0) out += ' ';
-    out += number(column(i));
+    out += csv_number(column(i));
   }
   return out;
 }
@@ -44,6 +39,10 @@ std::ofstream open_append(const fs::path& path) {
 }
 
 }  // namespace
+
+std::string csv_number(double value) {
+  return std::isnan(value) ? std::string("nan") : fmt::format("{}", value);
+}
 
 Error file_error(const fs::path& path, std::string_view what) {
   return Error(path.string(), fmt::format("{}: {}", path.string(), what));
@@ -250,10 +249,11 @@ void ResultStore::append(const EpisodeResult& result) {
     const AssemblyId& x = result.assemblies[static_cast<std::size_t>(t)];
     rows += fmt::format(
         "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", result.group, result.controller,
-        result.run, t, x.upper, x.lower, number(result.z(t)), number(result.z_star(t)),
-        number((result.z(t) - result.z_star(t)) / result.z_star(t)), joined(result.control.col(t)),
-        joined(result.estimate.col(t)), joined(result.offset.col(t)), number(distance),
-        number(result.trace_p(t)), number(result.q_evaluations(t)), number(result.seconds(t)));
+        result.run, t, x.upper, x.lower, csv_number(result.z(t)), csv_number(result.z_star(t)),
+        csv_number((result.z(t) - result.z_star(t)) / result.z_star(t)),
+        joined(result.control.col(t)), joined(result.estimate.col(t)), joined(result.offset.col(t)),
+        csv_number(distance), csv_number(result.trace_p(t)), csv_number(result.q_evaluations(t)),
+        csv_number(result.seconds(t)));
   }
   csv_ << rows << std::flush;
   if (!csv_) throw file_error(directory_ / csv_name, "cannot be written");

@@ -112,20 +112,32 @@ TEST(ConstantVelocityEstimator, ItsSolveSummarySaysHowTheFitEnded) {
   EXPECT_EQ(restored.last_solve().cost, estimator.last_solve().cost);
 }
 
-// The paper's drift turns back (eq. 15): the change is declared and the estimate recovers.
+// The paper's drift turns back (eq. 15): the change is declared and the estimate recovers. The
+// gate's reading says why: above 1 at every fit that declared a change, at most 1 elsewhere, NaN
+// until the history is long enough to consult the gate.
 TEST(ConstantVelocityEstimator, DeclaresAReversalAndRecovers) {
   DriftScenario scenario;
   ConstantVelocityEstimator<3> estimator = make_estimator();
   estimator.reset(0, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(std::isnan(estimator.change_ratio()));
   const Eigen::Vector3d velocity(0.01, -0.02, 0.015);
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   Eigen::Vector3d step = velocity;
+  const Index gated_from = estimator.options().change_window + 3;
   for (Index t = 0; t < 60; ++t) {
     if (t == 25) step = -step;
     const Eigen::Vector3d u = scenario.next(t, estimator.position());
     estimator.add(t, scenario.model, u, scenario.plant(u, offset));
     offset += step;
     estimator.fit(t + 1);
+    if (estimator.changed()) {
+      EXPECT_GT(estimator.change_ratio(), 1.0) << "assembly " << t;
+    } else if (estimator.history_size() < gated_from) {
+      EXPECT_TRUE(std::isnan(estimator.change_ratio())) << "assembly " << t;
+    } else {
+      EXPECT_GE(estimator.change_ratio(), 0.0) << "assembly " << t;
+      EXPECT_LE(estimator.change_ratio(), 1.0) << "assembly " << t;
+    }
   }
   EXPECT_GE(estimator.changes(), 1);
   EXPECT_LT((estimator.position() - offset).norm(), 0.03);
@@ -418,6 +430,7 @@ TEST(ConstantVelocityEstimator, ASnapshotRestoresItBitForBit) {
   EXPECT_EQ(original.position_covariance(), restored.position_covariance());
   EXPECT_EQ(original.misfit_scale(), restored.misfit_scale());
   EXPECT_EQ(original.prediction_scale(), restored.prediction_scale());
+  EXPECT_EQ(original.change_ratio(), restored.change_ratio());
 }
 
 TEST(ConstantVelocityEstimator, RefusesABadSnapshotAndKeepsItsState) {

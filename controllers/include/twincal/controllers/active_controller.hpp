@@ -56,6 +56,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twincal/controllers/active/active_options.hpp"
+#include "twincal/controllers/active/active_step_report.hpp"
 #include "twincal/controllers/active/constant_velocity_estimator.hpp"
 #include "twincal/controllers/active/do_no_harm_audit.hpp"
 #include "twincal/controllers/active/probe_design.hpp"
@@ -84,24 +85,6 @@
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
-
-/// What the active controller did for one assembly, beyond the ProposalReport.
-struct ActiveStepReport {
-  bool quadratic = false;              ///< estimated with the twin's quadratic model
-  double model_error = 0.0;            ///< largest relative error of the model at the check points
-  double model_variance = 0.0;         ///< τ², the variance of the model's error in Q (estimator)
-  bool hessian_refitted = false;       ///< this assembly paid for a full fit of H
-  double probe_norm = 0.0;             ///< |p|
-  double plant_regret = 0.0;           ///< the plant's regret that priced p (regret_probe)
-  double horizon = 0.0;                ///< T of the probe design
-  double process_variance = 0.0;       ///< q of the random-walk filter (sigma-point mode)
-  double normalized_innovation = 0.0;  ///< ν²/S of z against its prediction (after observe)
-  bool gated = false;                  ///< the sigma-point update inflated P at the gate
-  bool velocity_change = false;        ///< the estimator declared a change of velocity
-  Index history = 0;                   ///< assemblies in the estimator's history
-  bool corrected = false;              ///< the control applied δû (the offset was significant)
-  bool audited = false;                ///< this assembly counts in the do-no-harm audit
-};
 
 template <Twin T, int N = Dynamic, typename Probe = ThompsonProbe<N>,
           SigmaPointScheme Scheme = SphericalRadialSigmaPoints, Optimizer O = NloptOptimizer>
@@ -368,7 +351,7 @@ class ActiveCalibrationController {
                          {"plant_regrets", doubles_to_json(plant_regrets_)},
                          {"regret_count", regret_count_},
                          {"report", json_state::report_to_json(report_)},
-                         {"step", step_to_json(step_)},
+                         {"step", active_step_report_to_json(step_)},
                          {"surrogate", surrogate_.save()},
                          {"probe", probe_.save()},
                          {"estimator", estimator_.save()}};
@@ -428,7 +411,8 @@ class ActiveCalibrationController {
     ProposalReport report =
         json_state::within("report", [&] { return json_state::read_report(saved_report, d); });
     const nlohmann::json& saved_step = field(saved, "step");
-    const ActiveStepReport step = json_state::within("step", [&] { return read_step(saved_step); });
+    const ActiveStepReport step =
+        json_state::within("step", [&] { return read_active_step_report(saved_step); });
     std::vector<Assembly> kept_assemblies;
     std::vector<Index> kept_times;
     std::vector<double> kept_model_errors;
@@ -646,15 +630,24 @@ class ActiveCalibrationController {
         step_.normalized_innovation;
 
     ++innovation_count_;
+    const Index changes_before = estimator_.changes();
     estimator_.fit(time_ + 1);
+    // The report covers every fit of this assembly (a relinearization fits again): a change
+    // declared by either, and the gate's larger reading (fmax ignores a gate not consulted).
+    step_.change_ratio = estimator_.change_ratio();
     if constexpr (TwinWithKeptAssemblies<T>) {
       const std::size_t at = static_cast<std::size_t>(time_) % kept_assemblies_.size();
       kept_assemblies_[at] = assembly;
       kept_times_[at] = time_;
       kept_model_errors_[at] = step_.model_error;
-      if (relinearize()) estimator_.fit(time_ + 1);
+      if (relinearize()) {
+        estimator_.fit(time_ + 1);
+        step_.change_ratio = std::fmax(step_.change_ratio, estimator_.change_ratio());
+      }
     }
-    step_.velocity_change = estimator_.changed();
+    step_.velocity_change = estimator_.changes() > changes_before;
+    step_.misfit_scale = estimator_.misfit_scale();
+    step_.prediction_scale = estimator_.prediction_scale();
     step_.history = estimator_.history_size();
     mean_ = estimator_.position();
     covariance_ = estimator_.position_covariance();
@@ -796,46 +789,6 @@ class ActiveCalibrationController {
     const double excess = std::clamp(nis - 1.0, -1.0, 3.0);
     process_variance_ = std::clamp(process_variance_ * std::exp(options_.adaptation_rate * excess),
                                    options_.min_process_variance, options_.max_process_variance);
-  }
-
-  [[nodiscard]] static nlohmann::json step_to_json(const ActiveStepReport& step) {
-    using json_state::number_to_json;
-    return {{"quadratic", step.quadratic},
-            {"model_error", number_to_json(step.model_error)},
-            {"model_variance", number_to_json(step.model_variance)},
-            {"hessian_refitted", step.hessian_refitted},
-            {"probe_norm", number_to_json(step.probe_norm)},
-            {"plant_regret", number_to_json(step.plant_regret)},
-            {"horizon", number_to_json(step.horizon)},
-            {"process_variance", number_to_json(step.process_variance)},
-            {"normalized_innovation", number_to_json(step.normalized_innovation)},
-            {"gated", step.gated},
-            {"velocity_change", step.velocity_change},
-            {"history", step.history},
-            {"corrected", step.corrected},
-            {"audited", step.audited}};
-  }
-
-  [[nodiscard]] static ActiveStepReport read_step(const nlohmann::json& saved) {
-    using json_state::read_bool;
-    using json_state::read_double_field;
-    using json_state::Values;
-    ActiveStepReport step;
-    step.quadratic = read_bool(saved, "quadratic");
-    step.model_error = read_double_field(saved, "model_error", Values::any);
-    step.model_variance = read_double_field(saved, "model_variance", Values::any);
-    step.hessian_refitted = read_bool(saved, "hessian_refitted");
-    step.probe_norm = read_double_field(saved, "probe_norm", Values::any);
-    step.plant_regret = read_double_field(saved, "plant_regret", Values::any);
-    step.horizon = read_double_field(saved, "horizon", Values::any);
-    step.process_variance = read_double_field(saved, "process_variance", Values::any);
-    step.normalized_innovation = read_double_field(saved, "normalized_innovation", Values::any);
-    step.gated = read_bool(saved, "gated");
-    step.velocity_change = read_bool(saved, "velocity_change");
-    step.history = json_state::read_integer_field(saved, "history", 0);
-    step.corrected = read_bool(saved, "corrected");
-    step.audited = read_bool(saved, "audited");
-    return step;
   }
 
   // Floor and ceiling on P's eigenvalues (P stays symmetric positive definite and never claims

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/active/active_step_report.hpp"
 #include "twincal/controllers/controller.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/models/assembly_id.hpp"
@@ -53,6 +54,11 @@ class AnyController {
   /// tr P_t; NaN for a controller that does not estimate.
   [[nodiscard]] double offset_covariance_trace() const { return model_->covariance_trace(); }
 
+  /// What the controller did for its last assembly beyond its control and estimate, as a flat
+  /// JSON object: the active controller's ActiveStepReport (active_step_report_to_json); an
+  /// empty object for a controller that reports nothing more. `twincal trace` prints it.
+  [[nodiscard]] nlohmann::json step_report() const { return model_->step_report(); }
+
   /// The wrapped controller's snapshot (SnapshotController, controllers' controller.hpp): what
   /// it carries from one assembly to the next, as JSON that reads back bit for bit.
   [[nodiscard]] nlohmann::json save() const { return model_->save(); }
@@ -73,6 +79,7 @@ class AnyController {
     virtual void offset_estimate(Eigen::Ref<VectorX>) const = 0;
     virtual void offset_covariance(Eigen::Ref<MatrixX>) const = 0;
     [[nodiscard]] virtual double covariance_trace() const = 0;
+    [[nodiscard]] virtual nlohmann::json step_report() const = 0;
     [[nodiscard]] virtual nlohmann::json save() const = 0;
     virtual void restore(const nlohmann::json&) = 0;
     Index dimension;
@@ -111,6 +118,13 @@ class AnyController {
         return controller.offset_covariance().trace();
       } else {
         return std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+    [[nodiscard]] nlohmann::json step_report() const override {
+      if constexpr (requires(const C& c) { active_step_report_to_json(c.last_step()); }) {
+        return active_step_report_to_json(controller.last_step());
+      } else {
+        return nlohmann::json::object();
       }
     }
     [[nodiscard]] nlohmann::json save() const override { return controller.save(); }

@@ -13,6 +13,7 @@
 /// Non-estimating controllers (baseline, nominal) assume a calibrated twin: δû_t = 0.
 
 #include <exception>
+#include <functional>
 
 #include "twincal/controllers/any_controller.hpp"
 #include "twincal/core/eigen.hpp"
@@ -44,6 +45,18 @@ class TwinFailureError : public Error {
 ///         the episode (a controller that cannot go on) are recorded in EpisodeResult::failure.
 [[nodiscard]] EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
                                         const ControllerSpec& controller, Index run);
+
+/// Called by run_episode after each assembly t the controller handled: the result's column t
+/// is filled (z, z*, u, δû, δu*, tr P, evaluations), and the controller can be asked for its
+/// step_report(). What `twincal trace` prints.
+using EpisodeStepObserver =
+    std::function<void(Index t, const EpisodeResult& result, const AnyController& controller)>;
+
+/// run_episode that calls `observer` after every assembly (an empty observer is never called);
+/// the result is the same as without it.
+[[nodiscard]] EpisodeResult run_episode(const CaseTwin& twin, const ExperimentConfig& config,
+                                        const ControllerSpec& controller, Index run,
+                                        const EpisodeStepObserver& observer);
 
 /// The controller that run_episode(twin, config, controller, run) drives — the same
 /// construction, seeds and initial estimate δû0 — for an owner that drives it with its own

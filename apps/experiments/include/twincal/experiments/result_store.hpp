@@ -33,6 +33,10 @@
 
 namespace twincal {
 
+/// A number as the results' CSV files write it: the shortest form that reads back to the same
+/// double; "nan" for a missing value.
+[[nodiscard]] std::string csv_number(double value);
+
 /// The error of a results file or directory: Error("<path>: <what>"), keyed by the path.
 [[nodiscard]] Error file_error(const std::filesystem::path& path, std::string_view what);
 

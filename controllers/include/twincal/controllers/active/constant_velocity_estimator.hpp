@@ -104,6 +104,10 @@ class ConstantVelocityEstimator {
   /// Changes of velocity declared so far, and whether the last fit declared one.
   [[nodiscard]] Index changes() const noexcept { return estimate_.changes; }
   [[nodiscard]] bool changed() const noexcept { return estimate_.changed; }
+  /// The change gate's reading at the last fit: the last change_window entries' mean squared
+  /// normalized residual over change_gate² · min(misfit_scale(), max_misfit_scale); changed()
+  /// holds where it exceeds 1. NaN where the history was too short to consult the gate.
+  [[nodiscard]] double change_ratio() const noexcept { return estimate_.change_ratio; }
   /// Whether the history shows an offset: the fit explains it better than δu = 0 by more than
   /// chance would (see ConstantVelocityOptions::significance).
   [[nodiscard]] bool significant() const noexcept { return estimate_.significant; }
@@ -363,7 +367,8 @@ class ConstantVelocityEstimator {
   }
 
   // The root-mean-square normalized residual of the last change_window assemblies beyond the
-  // gate, in units of the misfit scale bounded by max_misfit_scale.
+  // gate, in units of the misfit scale bounded by max_misfit_scale; the reading into
+  // estimate_.change_ratio.
   bool recent_misfit(const StateVector& state, Index time) {
     const Index window = options_.change_window;
     double sum = 0.0;
@@ -372,8 +377,10 @@ class ConstantVelocityEstimator {
       sum += history_.weights(slot(i)) * e * e;
     }
     const double mean = sum / static_cast<double>(window);
-    return mean > options_.change_gate * options_.change_gate *
-                      std::min(model_misfit_.scale(), options_.max_misfit_scale);
+    const double allowed = options_.change_gate * options_.change_gate *
+                           std::min(model_misfit_.scale(), options_.max_misfit_scale);
+    estimate_.change_ratio = mean / allowed;
+    return mean > allowed;
   }
 
   // A change of velocity: the prior becomes the estimate of change_lag fits ago, widened along
@@ -470,6 +477,7 @@ class ConstantVelocityEstimator {
     Index changes = 0;
     bool changed = false;
     bool significant = false;
+    double change_ratio = std::numeric_limits<double>::quiet_NaN();
   };
 
   // The scratch of a fit, sized once by the constructor (no allocation per step): every fit
@@ -754,6 +762,7 @@ template <int N>
 void ConstantVelocityEstimator<N>::fit(Index time) {
   const Index d = dimension();
   estimate_.changed = false;
+  estimate_.change_ratio = std::numeric_limits<double>::quiet_NaN();
   shift_prior(time);
   // Warm start: the last estimate moved to `time` with its velocity.
   if (estimate_.fitted) {
@@ -867,6 +876,7 @@ nlohmann::json ConstantVelocityEstimator<N>::save() const {
       {"changes", estimate_.changes},
       {"changed", estimate_.changed},
       {"significant", estimate_.significant},
+      {"change_ratio", json_state::number_to_json(estimate_.change_ratio)},
       {"misfit", model_misfit_.save()},
       {"prediction_misfit", prediction_misfit_.save()}};
 }
@@ -968,6 +978,7 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   estimate.changes = read_integer_field(saved, "changes", 0);
   estimate.changed = read_bool(saved, "changed");
   estimate.significant = read_bool(saved, "significant");
+  estimate.change_ratio = read_double_field(saved, "change_ratio", json_state::Values::any);
   MedianMisfit misfit = model_misfit_;
   const nlohmann::json& saved_misfit = field(saved, "misfit");
   json_state::within("misfit", [&] { misfit.restore(saved_misfit); });
