@@ -144,6 +144,35 @@ TEST(ConstantVelocityEstimator, DeclaresAReversalAndRecovers) {
   EXPECT_LT((estimator.state().tail(3) + velocity).norm(), 2e-3);
 }
 
+// A refit of the same assembly (the active controller's, after relinearizing its history's
+// models) does not count as another assembly: at a change the fit restarts from its estimate of
+// change_lag assemblies ago and keeps the history measured since, refitted or not.
+TEST(ConstantVelocityEstimator, RestartsFromChangeLagAssembliesAgoHoweverOftenEachWasFitted) {
+  for (const int fits_per_assembly : {1, 2, 3}) {
+    DriftScenario scenario;
+    ConstantVelocityEstimator<3> estimator = make_estimator();
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+    Eigen::Vector3d step(0.01, -0.02, 0.015);
+    Index history_after_change = -1;
+    for (Index t = 0; t < 60 && history_after_change < 0; ++t) {
+      if (t == 25) step = -step;
+      const Eigen::Vector3d u = scenario.next(t, estimator.position());
+      estimator.add(t, scenario.model, u, scenario.plant(u, offset));
+      offset += step;
+      bool changed = false;
+      for (int k = 0; k < fits_per_assembly; ++k) {
+        estimator.fit(t + 1);
+        changed = changed || estimator.changed();
+      }
+      if (changed) history_after_change = estimator.history_size();
+    }
+    ASSERT_GE(history_after_change, 0) << fits_per_assembly << " fits per assembly";
+    EXPECT_EQ(history_after_change, estimator.options().change_lag + 1)
+        << fits_per_assembly << " fits per assembly";
+  }
+}
+
 // A quality that hardly depends on the offset (the whole drift moves z by far less than σz) does
 // not show it: the estimate is not significant, so the controller does not correct with it.
 TEST(ConstantVelocityEstimator, AnOffsetBelowTheNoiseIsNotSignificant) {

@@ -200,10 +200,10 @@ class ConstantVelocityEstimator {
   /// Everything a later add(), fit() or relinearize() reads: the history (each entry at its ring
   /// slot, so that every later sum runs over the same memory in the same order; an entry's H
   /// written once for a run of equal ones), the last H added as fitted, the estimates of the
-  /// last change_lag + 1 fits, the prior, the estimate with its flags and counters, and the
-  /// misfit scales with their ring. Not last_solve(), nor the workspaces of a fit (Gauss–Newton
-  /// buffers, shifted prior, factorizations), which every fit rewrites before reading them, nor the
-  /// weights 1/(σz² + τ²), recomputed from τ².
+  /// last change_lag + 2 assemblies fitted, the prior, the estimate with its flags and counters,
+  /// and the misfit scales with their ring. Not last_solve(), nor the workspaces of a fit
+  /// (Gauss–Newton buffers, shifted prior, factorizations), which every fit rewrites before reading
+  /// them, nor the weights 1/(σz² + τ²), recomputed from τ².
   [[nodiscard]] nlohmann::json save() const;
 
   /// Restores a snapshot of save() into an estimator of the same box, σz² and options.
@@ -383,13 +383,19 @@ class ConstantVelocityEstimator {
     return mean > allowed;
   }
 
-  // A change of velocity: the prior becomes the estimate of change_lag fits ago, widened along
-  // its velocity's line, and the history keeps the assemblies measured since.
+  // A change of velocity: the prior becomes the estimate of change_lag assemblies ago, widened
+  // along its velocity's line, and the history keeps the assemblies measured since.
   void restart_at_change(Index time) {
     const Index d = dimension();
-    const Index lags = options_.change_lag + 1;
-    // The oldest snapshot kept is change_lag fits ago (or the first, early on).
-    const Index oldest = fits_.count < lags ? 0 : fits_.count % lags;
+    const Index slots = snapshot_slots();
+    // The snapshots before `time` (a refit's own is not one of them); the oldest of their last
+    // change_lag + 1 (or the first, early on).
+    Index before = fits_.count;
+    if (before > 0 && fits_.times[static_cast<std::size_t>((before - 1) % slots)] == time) {
+      --before;
+    }
+    const Index oldest =
+        before <= options_.change_lag + 1 ? 0 : (before - options_.change_lag - 1) % slots;
     const Index restart_time = fits_.times[static_cast<std::size_t>(oldest)];
     work_.velocity = fits_.states.col(oldest).tail(d);
     prior_.mean.head(d) = fits_.states.col(oldest).head(d);
@@ -430,12 +436,16 @@ class ConstantVelocityEstimator {
     estimate_.position_covariance = estimate_.covariance.topLeftCorner(d, d);
     estimate_.time = time;
     estimate_.fitted = true;
-    const Index lags = options_.change_lag + 1;
-    const Index i = fits_.count % lags;
+    // One snapshot per assembly: a refit of the same time (after relinearization) replaces its
+    // fit, so a change restarts from change_lag assemblies ago, not change_lag fits.
+    const Index slots = snapshot_slots();
+    const bool refit =
+        fits_.count > 0 && fits_.times[static_cast<std::size_t>((fits_.count - 1) % slots)] == time;
+    if (!refit) ++fits_.count;
+    const Index i = (fits_.count - 1) % slots;
     fits_.times[static_cast<std::size_t>(i)] = time;
     fits_.states.col(i) = estimate_.state;
     fits_.covariances.middleCols(i * d, d) = estimate_.position_covariance;
-    ++fits_.count;
   }
 
   // The state save() writes, in four parts that restore() reads whole and commits at once.
@@ -453,7 +463,9 @@ class ConstantVelocityEstimator {
     Index head = 0;
     Index size = 0;
   };
-  // The estimates of the last change_lag + 1 fits (`count` fits so far), at slot count mod lags.
+  // The estimate of each of the last snapshot_slots() assemblies fitted (`count` so far; the k-th
+  // at slot k mod snapshot_slots()): change_lag + 1 before the assembly a refit fits again.
+  [[nodiscard]] Index snapshot_slots() const noexcept { return options_.change_lag + 2; }
   struct FitSnapshots {
     std::vector<Index> times;
     Matrix<state_size, Dynamic> states;
@@ -643,10 +655,10 @@ ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width
   history_.qualities.resize(capacity);
   history_.weights.resize(capacity);
   history_.model_variances.resize(capacity);
-  const Index lags = options_.change_lag + 1;
-  fits_.times.assign(static_cast<std::size_t>(lags), 0);
-  fits_.states.resize(s, lags);
-  fits_.covariances.resize(d, d * lags);
+  const Index slots = snapshot_slots();
+  fits_.times.assign(static_cast<std::size_t>(slots), 0);
+  fits_.states.resize(s, slots);
+  fits_.covariances.resize(d, d * slots);
   prior_.mean.resize(s);
   prior_.covariance.resize(s, s);
   estimate_.state.setZero(s);
@@ -850,7 +862,7 @@ nlohmann::json ConstantVelocityEstimator<N>::save() const {
                        {"model_variance", number_to_json(history_.model_variances(s))}});
   }
   nlohmann::json snapshots = nlohmann::json::array();
-  const Index kept_snapshots = std::min<Index>(fits_.count, options_.change_lag + 1);
+  const Index kept_snapshots = std::min<Index>(fits_.count, snapshot_slots());
   for (Index i = 0; i < kept_snapshots; ++i) {
     snapshots.push_back({{"time", fits_.times[static_cast<std::size_t>(i)]},
                          {"state", doubles_to_json(fits_.states.col(i))},
@@ -890,7 +902,7 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   const Index d = dimension();
   const Index s = 2 * d;
   const Index capacity = options_.max_history;
-  const Index lags = options_.change_lag + 1;
+  const Index slots = snapshot_slots();
   json_state::require_header(saved, json_format, d);
   require_dimension("max_history", read_integer_field(saved, "max_history"), capacity);
   const Index head = read_integer_field(saved, "head", 0, capacity - 1);
@@ -942,11 +954,11 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
     json_state::read_matrix(field(saved, "last_hessian"), "last_hessian", last_hessian);
   }
 
-  // The snapshots of the last change_lag + 1 fits, at their slots.
+  // The snapshots of the last snapshot_slots() assemblies fitted, at their slots.
   FitSnapshots fits = fits_;
   fits.count = read_integer_field(saved, "snapshot_count", 0);
-  const nlohmann::json& snapshots =
-      json_state::require_array(field(saved, "snapshots"), "snapshots", std::min(fits.count, lags));
+  const nlohmann::json& snapshots = json_state::require_array(
+      field(saved, "snapshots"), "snapshots", std::min(fits.count, slots));
   StateVector state_column(s);
   for (std::size_t i = 0; i < snapshots.size(); ++i) {
     json_state::within(fmt::format("snapshots[{}]", i), [&] {
