@@ -1,8 +1,9 @@
-// Your own black box: four DeviationNonlinearity policies written here, outside the library, as a
+// Your own black box: six DeviationNonlinearity policies written here, outside the library, as a
 // user would write the shape of their own twin (models/deviation_nonlinearity.hpp) — soft stops,
-// a dead band, cubic stiffening of every key point, waviness — and the active controller run on
-// them with its default settings. These shapes were kept out of the project while the controller
-// was designed; docs/reproduction.md ("Black-box twins") reports what this program prints.
+// a dead band, cubic stiffening of every key point, waviness, saturation, one-sided stiffening —
+// and the active controller run on them with its default settings. These shapes were kept out of
+// the project while the controller was designed (the last two were written after it);
+// docs/reproduction.md ("Black-box twins") reports what this program prints.
 //
 // Two modes, the paper's protocol (100 assemblies, the bouncing drift of eq. (15) on every
 // locator, NLopt-searched u0 and z*):
@@ -125,8 +126,51 @@ class Waviness {
   double strength_;
 };
 
+// Every key point saturates: a part that bottoms out smoothly. (This shape and the next were
+// written after the controller of commit ce44677 and first run on it.)
+class Saturation {
+ public:
+  Saturation(Index /*key_points*/, Index dimension, double strength, const RandomStream&)
+      : limit_(0.5 * std::sqrt(static_cast<double>(dimension))), strength_(strength) {}
+  static constexpr std::string_view name() { return "saturation"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      r(i) -= strength_ * 0.6 * (moved(i) - limit_ * std::tanh(moved(i) / limit_));
+    }
+  }
+
+ private:
+  double limit_;
+  double strength_;
+};
+
+// One-sided stiffening (the side drawn per key point): smooth, but not symmetric in the move.
+class OneSided {
+ public:
+  OneSided(Index key_points, Index dimension, double strength, const RandomStream& stream)
+      : side_(key_points),
+        scale_(0.4 * std::sqrt(static_cast<double>(dimension))),
+        strength_(strength) {
+    RandomStream draws = stream.substream("one_sided");
+    for (Index i = 0; i < key_points; ++i) side_(i) = draws.uniform() < 0.5 ? -1.0 : 1.0;
+  }
+  static constexpr std::string_view name() { return "one-sided"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      const double m = std::max(0.0, side_(i) * moved(i)) / scale_;
+      r(i) += side_(i) * strength_ * 0.5 * scale_ * m * m;
+    }
+  }
+
+ private:
+  VectorX side_;
+  double scale_;
+  double strength_;
+};
+
 static_assert(DeviationNonlinearity<SoftStop> && DeviationNonlinearity<DeadBand> &&
-              DeviationNonlinearity<Cubic> && DeviationNonlinearity<Waviness>);
+              DeviationNonlinearity<Cubic> && DeviationNonlinearity<Waviness> &&
+              DeviationNonlinearity<Saturation> && DeviationNonlinearity<OneSided>);
 
 struct Settings {
   bool plant_mode = false;
@@ -220,5 +264,7 @@ int main(int argc, char** argv) {
   report<DeadBand>(settings);
   report<Cubic>(settings);
   report<Waviness>(settings);
+  report<Saturation>(settings);
+  report<OneSided>(settings);
   return 0;
 }
