@@ -5,7 +5,6 @@
 // Dynamic size. propose() and observe() run without the GIL; a Python twin re-acquires it for
 // each batch.
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,6 +20,7 @@
 #include "twincal/controllers/active_controller.hpp"
 #include "twincal/controllers/any_exploration_loss.hpp"
 #include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/controllers/exploration_kind.hpp"
 #include "twincal/controllers/individualized_controller.hpp"
 #include "twincal/controllers/presets.hpp"
@@ -86,8 +86,9 @@ py::dict report_dict(const ProposalReport& r) {
   return out;
 }
 
-// A step report (AnyController::step_report()'s JSON) as a dict: NaN (null) as float("nan"),
-// ±∞ ("inf", "-inf") as floats, booleans and counts as themselves.
+// A step report (AnyController::step_report()'s JSON) as a dict: booleans and counts as
+// themselves, numbers decoded as the report wrote them (json_state::read_double: null is NaN,
+// "inf" / "-inf" are ±∞).
 py::dict step_dict(const nlohmann::json& report) {
   py::dict out;
   for (const auto& item : report.items()) {
@@ -97,13 +98,8 @@ py::dict step_dict(const nlohmann::json& report) {
       out[key] = value.get<bool>();
     } else if (value.is_number_integer()) {
       out[key] = value.get<std::int64_t>();
-    } else if (value.is_number()) {
-      out[key] = value.get<double>();
-    } else if (value.is_null()) {
-      out[key] = std::numeric_limits<double>::quiet_NaN();
     } else {
-      out[key] = value.get<std::string>() == "inf" ? std::numeric_limits<double>::infinity()
-                                                   : -std::numeric_limits<double>::infinity();
+      out[key] = json_state::read_double(value, item.key(), json_state::Values::any);
     }
   }
   return out;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/controller_state_json.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/experiments/episode_runner.hpp"
 #include "twincal/experiments/result_store.hpp"
@@ -13,17 +14,12 @@
 namespace twincal {
 namespace {
 
-// A step report's value as a CSV field (its JSON encodes NaN as null and ±∞ as strings).
-std::string field(const nlohmann::json& value) {
-  if (value.is_null()) return "nan";
+// A step report's value as a CSV field: booleans and counts as themselves, numbers decoded as
+// the report wrote them (null: NaN, "inf" / "-inf": ±∞; json_state::read_double refuses others).
+std::string field(const std::string& key, const nlohmann::json& value) {
   if (value.is_boolean()) return value.get<bool>() ? "true" : "false";
   if (value.is_number_integer()) return fmt::format("{}", value.get<std::int64_t>());
-  if (value.is_number()) return csv_number(value.get<double>());
-  if (value.is_string()) return value.get<std::string>();
-  throw InvalidArgumentError("step_report",
-                             fmt::format("step_report: holds {}; rule: a step report's values "
-                                         "are numbers, booleans, null or \"inf\" / \"-inf\"",
-                                         value.dump()));
+  return csv_number(json_state::read_double(value, key, json_state::Values::any));
 }
 
 }  // namespace
@@ -46,7 +42,7 @@ EpisodeResult write_episode_trace(const CaseTwin& twin, const ExperimentConfig& 
                        csv_number((result.estimate.col(t) - result.offset.col(t)).norm()),
                        csv_number(result.offset.col(t).norm()), csv_number(result.trace_p(t)),
                        csv_number(result.q_evaluations(t)));
-    for (const auto& item : report.items()) line += "," + field(item.value());
+    for (const auto& item : report.items()) line += "," + field(item.key(), item.value());
     out << line << '\n' << std::flush;
     if (!out) throw Error("trace", "trace: the output cannot be written");
   };
