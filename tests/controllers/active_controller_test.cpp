@@ -103,6 +103,49 @@ TYPED_TEST(ActiveControllerTest, ClipsControlsToTheTwinBoundsWhenTheEstimateIsLo
   EXPECT_LT((VectorX(uncorrected.propose(x)) - twin_frame).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// With correction_step_fraction, the applied correction moves at most that fraction of the box
+// width per locator from one proposal to the next, here from 0 to an estimate given by restart()
+// (applied at once without the bound), and then reaches it. Probes are kept negligible so that
+// the correction is the control less clip(u0, box).
+TYPED_TEST(ActiveControllerTest, MovesTheCorrectionAtMostItsStepPerAssembly) {
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
+  const CountingTwin counting(twin);
+  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  const VectorX lower = twin.lower_bounds();
+  const VectorX upper = twin.upper_bounds();
+  const auto correction = [&](const auto& controller, const VectorX& u) {
+    return VectorX(u -
+                   controller.last_proposal().individual_control.cwiseMax(lower).cwiseMin(upper));
+  };
+  const auto start = [&](TypeParam& controller) {
+    controller.restart(offset,
+                       SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+  };
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  TypeParam unbounded(counting, RandomStream(12), ActiveOptions{.max_probe_fraction = 1e-9});
+  start(unbounded);
+  const VectorX first = unbounded.propose(assemblies[0]);
+  EXPECT_LT((correction(unbounded, first) - offset).cwiseAbs().maxCoeff(), 1e-6);
+
+  const ActiveOptions options{.max_probe_fraction = 1e-9, .correction_step_fraction = 0.01};
+  TypeParam bounded(counting, RandomStream(12), options);
+  start(bounded);
+  const VectorX step = options.correction_step_fraction * (upper - lower);  // 0.02 per locator
+  VectorX last = VectorX::Zero(3);
+  for (int t = 0; t < 30; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+    const VectorX u = bounded.propose(x);
+    const VectorX applied = correction(bounded, u);
+    EXPECT_TRUE(((applied - last).cwiseAbs().array() <= step.array() + 1e-8).all())
+        << "assembly " << t << ": " << applied.transpose() << " after " << last.transpose();
+    last = applied;
+    bounded.observe(x, u, twin.quality(x, VectorX(u - offset)));
+  }
+  // 0.3 / 0.02 = 15 assemblies to reach the estimate, which stayed at the offset.
+  EXPECT_LT((last - VectorX(bounded.offset_estimate())).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT((last - offset).cwiseAbs().maxCoeff(), 0.02);
+}
+
 TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {
   const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
@@ -428,6 +471,8 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
             "measurement_variance: value is -1; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.max_offset_fraction = -0.1}.validate(),
             "max_offset_fraction: value is -0.1; rule: must lie in [0, 1]");
+  EXPECT_EQ(ActiveOptions{.correction_step_fraction = -0.1}.validate(),
+            "correction_step_fraction: value is -0.1; rule: must be finite and >= 0");
   EXPECT_EQ(ActiveOptions{.surrogate = {.tolerance = 0.0}}.validate(),
             "surrogate.tolerance: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),

@@ -54,6 +54,8 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"max_horizon", 50.0, [](auto& o) { return o.max_horizon == 50.0; }},
       {"max_probe_fraction", 0.2, [](auto& o) { return o.max_probe_fraction == 0.2; }},
       {"max_offset_fraction", 0.4, [](auto& o) { return o.max_offset_fraction == 0.4; }},
+      {"correction_step_fraction", 0.05,
+       [](auto& o) { return o.correction_step_fraction == 0.05; }},
       {"innovation_gate", 4.0, [](auto& o) { return o.innovation_gate == 4.0; }},
       {"covariance_floor", 1e-11, [](auto& o) { return o.covariance_floor == 1e-11; }},
       {"covariance_ceiling_fraction", 0.9,

@@ -17,7 +17,8 @@
 ///      without a model that passed its check) and u_t = clip(u0 + p) + clamp(δû): the twin's
 ///      locator bounds hold in the twin's frame (u_t − δû), and the correction is at most
 ///      ActiveOptions::max_offset_fraction of the box width, so a twin optimum at its bound can
-///      be corrected and a lost estimate cannot drive the fixture far outside its range;
+///      be corrected and a lost estimate cannot drive the fixture far outside its range (and,
+///      with ActiveOptions::correction_step_fraction, moves at most that far per assembly);
 ///   5. observe: z_t joins the estimator's history (or updates the random-walk filter, with an
 ///      innovation gate that inflates an overconfident P, process noise adapted to the
 ///      normalized innovations, and a floor and a ceiling on P's eigenvalues).
@@ -130,6 +131,9 @@ class ActiveCalibrationController {
     const VectorX width = twin.upper_bounds() - twin.lower_bounds();
     max_probe_ = options_.max_probe_fraction * width;
     max_offset_ = options_.max_offset_fraction * width;
+    max_correction_step_ = options_.correction_step_fraction * width;
+    applied_correction_.setZero(d);
+    correction_.resize(d);
     check_margin_ = options_.surrogate.step_fraction * width;
     covariance_ceiling_ = std::pow(options_.covariance_ceiling_fraction * width.minCoeff(), 2);
     probe_vector_.resize(d);
@@ -202,8 +206,10 @@ class ActiveCalibrationController {
         if (audited_arm_) correct = *audited_arm_;
       }
       model_center_ = center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
-      if (correct)
-        model_center_ += estimator_.position().cwiseMax(-max_offset_).cwiseMin(max_offset_);
+      if (correct) {
+        bound_correction(estimator_.position());
+        model_center_ += correction_;
+      }
       model_center_ -= estimator_.position();
       // Within the twin's box, where it is defined (a lost estimate points outside it).
       model_center_ = model_center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
@@ -262,7 +268,11 @@ class ActiveCalibrationController {
     }
     control_ =
         (center_ + probe_vector_).cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
-    if (step_.corrected) control_ += mean_.cwiseMax(-max_offset_).cwiseMin(max_offset_);
+    if (step_.corrected) {
+      bound_correction(mean_);
+      control_ += correction_;
+      applied_correction_ = correction_;
+    }
     report_.control = control_;
     report_.quality_evaluations = evaluations;
     pending_ = true;
@@ -324,12 +334,12 @@ class ActiveCalibrationController {
   /// estimator (its history, snapshots, prior and misfit medians), the surrogate's kept H and
   /// its age, the probe's stream; the counters (assemblies, the pending proposal's time, the
   /// retry of the quadratic model); the pending proposal (u_t, whether its model held, the
-  /// model, which observe updates with); the do-no-harm rings (normalized innovations, the
-  /// audit's regrets and counts); the plant's last regrets, which price the probe; the
-  /// assemblies kept for relinearization, with their checks (ε, for the τ² of their refits);
-  /// and the last proposal's reports. Not the workspaces (sigma points, check points, the
-  /// eigensolver of the covariance bound, the relinearization candidates), which are rewritten
-  /// before they are read, nor the settings derived from the twin's box.
+  /// model, which observe updates with) and the correction last applied; the do-no-harm rings
+  /// (normalized innovations, the audit's regrets and counts); the plant's last regrets, which
+  /// price the probe; the assemblies kept for relinearization, with their checks (ε, for the τ² of
+  /// their refits); and the last proposal's reports. Not the workspaces (sigma points, check
+  /// points, the eigensolver of the covariance bound, the relinearization candidates), which are
+  /// rewritten before they are read, nor the settings derived from the twin's box.
   [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
     using json_state::doubles_to_json;
     using json_state::number_to_json;
@@ -345,6 +355,7 @@ class ActiveCalibrationController {
                          {"quadratic", quadratic_},
                          {"pending", pending_},
                          {"control", doubles_to_json(control_)},
+                         {"applied_correction", doubles_to_json(applied_correction_)},
                          {"model", json_state::model_to_json(model_)},
                          {"recent_innovations", doubles_to_json(recent_innovations_)},
                          {"innovation_count", innovation_count_},
@@ -393,6 +404,9 @@ class ActiveCalibrationController {
     const bool pending = read_bool(saved, "pending");
     ControlVector control(d);
     json_state::read_doubles(field(saved, "control"), "control", control);
+    ControlVector applied_correction(d);
+    json_state::read_doubles(field(saved, "applied_correction"), "applied_correction",
+                             applied_correction);
     const nlohmann::json& saved_model = field(saved, "model");
     QuadraticModel<N> model =
         json_state::within("model", [&] { return json_state::read_model<N>(saved_model, d); });
@@ -465,6 +479,7 @@ class ActiveCalibrationController {
     quadratic_ = quadratic;
     pending_ = pending;
     control_ = control;
+    applied_correction_ = applied_correction;
     model_ = std::move(model);
     recent_innovations_.swap(recent_innovations);
     innovation_count_ = innovation_count;
@@ -481,6 +496,18 @@ class ActiveCalibrationController {
   }
 
  private:
+  // The correction to apply for the estimate δû, into correction_: clamp(δû, ±max_offset_), then
+  // (correction_step_fraction > 0) moved at most max_correction_step_ per locator from the last
+  // applied correction.
+  void bound_correction(const ControlVector& estimate) {
+    correction_ = estimate.cwiseMax(-max_offset_).cwiseMin(max_offset_);
+    if (options_.correction_step_fraction > 0.0) {
+      correction_ = applied_correction_ + (correction_ - applied_correction_)
+                                              .cwiseMax(-max_correction_step_)
+                                              .cwiseMin(max_correction_step_);
+    }
+  }
+
   // The probe of the Probe policy, priced by model_. T = tr(HP)/tr(HQ) (for designs that price
   // information, as InformationProbe): the assemblies a random walk of variance q takes to add
   // back the uncertainty there is now.
@@ -818,6 +845,9 @@ class ActiveCalibrationController {
   CovarianceMatrix covariance_;
   double process_variance_ = 0.0;
   ControlVector max_offset_;
+  ControlVector max_correction_step_;
+  ControlVector applied_correction_;  // the correction of the last corrected proposal
+  ControlVector correction_;          // bound_correction()'s
   ControlVector check_margin_;
   ControlVector max_probe_;  // the ProbeContext's type: no converted temporary per assembly
   double covariance_ceiling_ = 0.0;

@@ -47,6 +47,20 @@ struct ActiveOptions {
   /// clip(u0 + p, box) + clamp(δû, ±max_offset_fraction·width): a twin optimum at its bound can
   /// still be corrected, and a lost estimate moves the fixture at most this far outside the box.
   double max_offset_fraction = 0.5;
+  /// Largest change of the applied correction from one corrected assembly to the next, per
+  /// locator, as a fraction of the box width there (0: none, the default). For a plant that is
+  /// not the twin (Assumption 1 broken): there a quadratic twin's models pass their checks while
+  /// the plant's quality grows faster than the twin's away from u0, a correction that misses
+  /// makes z larger than the twin explains, and the fit answers with a larger correction — a
+  /// runaway of 1 → 15 mm in four assemblies was traced (relative regret 45 in one of them).
+  /// Bounded, the correction moves at most this far while the do-no-harm rules catch up.
+  /// Measured on 2026-11-29 at 0.05 (velocity_fraction, the speed the estimator's prior gives an
+  /// offset; docs/reproduction.md, "A bound on the correction's step"): the user's six shapes
+  /// in plant mode on five seed pairs 33.8 → 23.1 (sum of the ratios to the baseline), cells
+  /// beyond the baseline's spread 3 → 0; but the exact body/ABC twin 0.12–0.22 → 0.17–0.30 over
+  /// eight seed pairs (a correction that lags a right estimate costs much where the quality is
+  /// this steep), hence off.
+  double correction_step_fraction = 0.0;
   /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
   /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;
@@ -165,6 +179,7 @@ struct ActiveOptions {
          rule::finite_at_least("max_horizon", max_horizon, 1.0),
          rule::in_left_open("max_probe_fraction", max_probe_fraction, 0.0, 1.0),
          rule::in_closed("max_offset_fraction", max_offset_fraction, 0.0, 1.0),
+         rule::non_negative_finite("correction_step_fraction", correction_step_fraction),
          rule::positive_finite("innovation_gate", innovation_gate),
          rule::positive_finite("covariance_floor", covariance_floor),
          rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
