@@ -300,7 +300,9 @@ class ActiveCalibrationController {
   /// Restarts the estimate at N(estimate, covariance) — a re-initialization from outside (a
   /// measurement of the fixture, a least-squares fit over a history) — keeping q and the model;
   /// the estimator forgets its history, and the estimate is applied from the next proposal on
-  /// (it does not wait for the history to show the offset significantly).
+  /// (it does not wait for the history to show the offset significantly; with
+  /// ActiveOptions::correction_step_fraction the correction moves towards it from the one last
+  /// applied, at that step per assembly).
   /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError, with the state
   ///         unchanged.
   void restart(const ControlVector& estimate, const CovarianceMatrix& covariance) {

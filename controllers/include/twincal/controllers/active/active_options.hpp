@@ -53,7 +53,9 @@ struct ActiveOptions {
   /// the plant's quality grows faster than the twin's away from u0, a correction that misses
   /// makes z larger than the twin explains, and the fit answers with a larger correction — a
   /// runaway of 1 → 15 mm in four assemblies was traced (relative regret 45 in one of them).
-  /// Bounded, the correction moves at most this far while the do-no-harm rules catch up.
+  /// Bounded, the correction moves at most this far while the do-no-harm rules catch up. An
+  /// episode starts from no correction; an assembly left uncorrected (the estimate not yet
+  /// significant, or held back) does not reset it: the next correction moves from the last one.
   /// Measured on 2026-11-29 at 0.05 (velocity_fraction, the speed the estimator's prior gives an
   /// offset; docs/reproduction.md, "A bound on the correction's step"): the user's six shapes
   /// in plant mode on five seed pairs 33.8 → 23.1 (sum of the ratios to the baseline), cells
