@@ -82,6 +82,7 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"trajectory.misfit_window", 20, [](auto& o) { return o.trajectory.misfit_window == 20; }},
       {"trajectory.max_misfit_scale", 25.0,
        [](auto& o) { return o.trajectory.max_misfit_scale == 25.0; }},
+      {"trajectory.min_gate_unit", 0.1, [](auto& o) { return o.trajectory.min_gate_unit == 0.1; }},
       {"trajectory.change_lag", 7, [](auto& o) { return o.trajectory.change_lag == 7; }},
       {"trajectory.change_position_spread", 8.0,
        [](auto& o) { return o.trajectory.change_position_spread == 8.0; }},

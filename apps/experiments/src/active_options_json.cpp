@@ -48,7 +48,7 @@ constexpr std::array<OptionField<ActiveOptions>, 22> active_fields{{
     {"fit_at_audited_arm", &ActiveOptions::fit_at_audited_arm},
 }};
 
-constexpr std::array<OptionField<ConstantVelocityOptions>, 15> trajectory_fields{{
+constexpr std::array<OptionField<ConstantVelocityOptions>, 16> trajectory_fields{{
     {"initial_position_fraction", &ConstantVelocityOptions::initial_position_fraction},
     {"position_fraction", &ConstantVelocityOptions::position_fraction},
     {"velocity_fraction", &ConstantVelocityOptions::velocity_fraction},
@@ -56,6 +56,7 @@ constexpr std::array<OptionField<ConstantVelocityOptions>, 15> trajectory_fields
     {"change_window", &ConstantVelocityOptions::change_window},
     {"misfit_window", &ConstantVelocityOptions::misfit_window},
     {"max_misfit_scale", &ConstantVelocityOptions::max_misfit_scale},
+    {"min_gate_unit", &ConstantVelocityOptions::min_gate_unit},
     {"change_lag", &ConstantVelocityOptions::change_lag},
     {"change_position_spread", &ConstantVelocityOptions::change_position_spread},
     {"change_velocity_spread", &ConstantVelocityOptions::change_velocity_spread},

@@ -1,6 +1,7 @@
 #include "twincal/controllers/active/constant_velocity_estimator.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -284,39 +285,51 @@ TEST(ConstantVelocityEstimator, APersistentMisfitIsNotAChangeOfVelocity) {
   EXPECT_LT(bounded, without_scale);
 }
 
+// What an estimator does through a turn: the drift moves at `velocity` and turns back at
+// assembly 40; the plant is measured with noise of standard deviation `noise_sd`, under models
+// that claim an error variance `model_variance`. The changes declared and the mean error over
+// the 30 assemblies after the turn, and the misfit scale and the gate's unit at the end.
+struct AfterTurn {
+  Index changes = 0;
+  double error = 0.0;
+  double scale = 0.0;
+  double unit = 0.0;
+};
+
+AfterTurn through_a_turn(const ConstantVelocityOptions& options, const Eigen::Vector3d& velocity,
+                         double noise_sd, double model_variance, std::uint64_t noise_seed) {
+  DriftScenario scenario;
+  ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4, options);
+  estimator.reset(0, Eigen::Vector3d::Zero());
+  RandomStream noise(noise_seed);
+  AfterTurn result;
+  for (Index t = 0; t < 70; ++t) {
+    const double travelled = static_cast<double>(t < 40 ? t : 80 - t);
+    const Eigen::Vector3d offset = travelled * velocity;
+    const Eigen::Vector3d u = scenario.next(t, estimator.position());
+    const double z = scenario.plant(u, offset) + noise_sd * noise.normal();
+    const Index before = estimator.changes();
+    estimator.add(t, scenario.model, u, z, model_variance);
+    estimator.fit(t + 1);
+    if (t < 40) continue;
+    result.changes += estimator.changes() - before;
+    result.error += (estimator.position() - offset).norm() / 30.0;
+  }
+  result.scale = estimator.misfit_scale();
+  result.unit = estimator.gate_unit();
+  return result;
+}
+
 // A turn of the drift under a persistent misfit within the bound: the models err (2σz, s² ≈ 4)
 // and the drift turns back at assembly 40. Unbounded, s² climbs with the residuals of the
 // missed turn (past 50) and raises the gate with it, which then never fires; bounded by
 // max_misfit_scale (10), the gate sees the turn and the estimate's error after it falls by
 // more than a third.
 TEST(ConstantVelocityEstimator, ABoundOnTheMisfitScaleSeesATurnItWouldHide) {
-  struct AfterTurn {
-    Index changes = 0;
-    double error = 0.0;
-    double scale = 0.0;
-  };
+  // Models that err (τ² = 1e-6), by less than they do (noise 2σz).
   const auto after_turn = [](double max_misfit_scale) {
-    DriftScenario scenario;
-    ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4,
-                                           {.max_misfit_scale = max_misfit_scale});
-    estimator.reset(0, Eigen::Vector3d::Zero());
-    RandomStream noise(11);
-    const Eigen::Vector3d velocity(0.005, -0.01, 0.0075);
-    AfterTurn result;
-    for (Index t = 0; t < 70; ++t) {
-      const double travelled = static_cast<double>(t < 40 ? t : 80 - t);
-      const Eigen::Vector3d offset = travelled * velocity;
-      const Eigen::Vector3d u = scenario.next(t, estimator.position());
-      const double z = scenario.plant(u, offset) + 0.02 * noise.normal();
-      const Index before = estimator.changes();
-      estimator.add(t, scenario.model, u, z, 1e-6);  // a model that errs, by less than it does
-      estimator.fit(t + 1);
-      if (t < 40) continue;
-      result.changes += estimator.changes() - before;
-      result.error += (estimator.position() - offset).norm() / 30.0;
-    }
-    result.scale = estimator.misfit_scale();
-    return result;
+    return through_a_turn({.max_misfit_scale = max_misfit_scale},
+                          Eigen::Vector3d(0.005, -0.01, 0.0075), 0.02, 1e-6, 11);
   };
   const AfterTurn bounded = after_turn(ConstantVelocityOptions{}.max_misfit_scale);
   const AfterTurn unbounded = after_turn(std::numeric_limits<double>::infinity());
@@ -324,6 +337,30 @@ TEST(ConstantVelocityEstimator, ABoundOnTheMisfitScaleSeesATurnItWouldHide) {
   EXPECT_GT(unbounded.scale, 50.0);
   EXPECT_GE(bounded.changes, 1);
   EXPECT_LT(bounded.error, 0.65 * unbounded.error);
+}
+
+// A noise-free plant (the paper's) whose drift turns back at assembly 40 in residuals far below
+// σz: in units of σz² (min_gate_unit = 1, the default) the gate never sees the turn and the
+// estimate lags it; in the plant's own units (min_gate_unit = 0.01: the innovations' median,
+// gate_unit() well below 1) the gate fires and the error over the 30 assemblies after the turn
+// falls by more than half. A plant as noisy as σz says keeps the unit near 1.
+TEST(ConstantVelocityEstimator, AGateInThePlantsOwnUnitsSeesATurnBelowTheNoise) {
+  // Exact models (τ² = 0).
+  const auto after_turn = [](double min_gate_unit, double noise_sd) {
+    return through_a_turn({.min_gate_unit = min_gate_unit}, Eigen::Vector3d(0.002, -0.004, 0.003),
+                          noise_sd, 0.0, 13);
+  };
+  const AfterTurn in_sigma = after_turn(1.0, 0.0);
+  constexpr double min_gate_unit = 0.01;
+  const AfterTurn own = after_turn(min_gate_unit, 0.0);
+  EXPECT_EQ(in_sigma.changes, 0);
+  EXPECT_DOUBLE_EQ(in_sigma.unit, 1.0);
+  EXPECT_GE(own.changes, 1);
+  EXPECT_LT(own.unit, 0.1);
+  EXPECT_GE(own.unit, min_gate_unit);
+  EXPECT_LT(own.error, 0.5 * in_sigma.error);
+  const AfterTurn noisy = after_turn(min_gate_unit, 0.01);
+  EXPECT_GT(noisy.unit, 0.4);
 }
 
 // prediction_scale() sees a plant its models do not explain even when they claim to be exact:
@@ -414,7 +451,9 @@ std::string estimator_snapshot_step(ConstantVelocityEstimator<3>& estimator,
   const double travelled = t < 20 ? s : (t < 45 ? 40.0 - s : s - 50.0);
   const Eigen::Vector3d u = scenario.next(t, estimator.position());
   const double model_variance = t % 7 == 0 ? 4e-4 : 0.0;
-  const double error = t % 7 == 0 ? 1e-3 * std::sin(s) : 0.0;
+  // Models that err by little until assembly 50 (the gate in the plant's own units between
+  // them), then by more than their τ says (the models' misfit scale above 1).
+  const double error = t % 7 == 0 ? (t < 50 ? 1e-3 : 0.03) * std::sin(s) : 0.0;
   const double nis = estimator.add(t, scenario.model, u,
                                    scenario.plant(u, travelled * velocity) + error, model_variance);
   if (t % 5 == 0 && estimator.history_size() > 1) {
@@ -427,12 +466,14 @@ std::string estimator_snapshot_step(ConstantVelocityEstimator<3>& estimator,
 }
 
 // A snapshot that went through text restores an estimator built alike bit for bit: a history
-// ring that has wrapped (max_history = 16), changes of velocity, the misfit medians,
+// ring that has wrapped (max_history = 16), changes of velocity, the misfit medians (the gate
+// in the plant's own units when the snapshot is taken, the models' misfit before the end),
 // relinearized entries.
 TEST(ConstantVelocityEstimator, ASnapshotRestoresItBitForBit) {
   ConstantVelocityOptions options;
   options.max_history = 16;
   options.misfit_window = 5;
+  options.min_gate_unit = 0.01;
   const auto make = [&options] {
     ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4, options);
     estimator.reset(0, Eigen::Vector3d(0.05, 0.0, -0.02));
@@ -440,25 +481,29 @@ TEST(ConstantVelocityEstimator, ASnapshotRestoresItBitForBit) {
   };
   ConstantVelocityEstimator<3> original = make();
   DriftScenario scenario;
-  for (Index t = 0; t < 40; ++t) (void)estimator_snapshot_step(original, scenario, t);
+  constexpr Index snapshot_at = 27;
+  for (Index t = 0; t < snapshot_at; ++t) (void)estimator_snapshot_step(original, scenario, t);
   EXPECT_GE(original.changes(), 1);
-  EXPECT_GT(original.misfit_scale(), 1.0);
+  EXPECT_LT(original.gate_unit(), 1.0);
   const nlohmann::json snapshot = nlohmann::json::parse(original.save().dump());
   EXPECT_NE(snapshot["head"], 0);  // the ring has wrapped
 
   ConstantVelocityEstimator<3> restored = make();
   restored.restore(snapshot);
   EXPECT_EQ(restored.save(), snapshot);
+  EXPECT_EQ(original.gate_unit(), restored.gate_unit());
   DriftScenario same = scenario;
-  for (Index t = 40; t < 80; ++t) {
+  for (Index t = snapshot_at; t < 80; ++t) {
     EXPECT_EQ(estimator_snapshot_step(original, scenario, t),
               estimator_snapshot_step(restored, same, t))
         << "assembly " << t;
   }
+  EXPECT_GT(original.misfit_scale(), 1.0);
   EXPECT_EQ(original.position(), restored.position());
   EXPECT_EQ(original.position_covariance(), restored.position_covariance());
   EXPECT_EQ(original.misfit_scale(), restored.misfit_scale());
   EXPECT_EQ(original.prediction_scale(), restored.prediction_scale());
+  EXPECT_EQ(original.gate_unit(), restored.gate_unit());
   EXPECT_EQ(original.change_ratio(), restored.change_ratio());
 }
 
@@ -527,6 +572,9 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
   EXPECT_FALSE(ConstantVelocityOptions{.max_misfit_scale = std::numeric_limits<double>::infinity()}
                    .validate()
                    .has_value());
+  EXPECT_EQ(ConstantVelocityOptions{.min_gate_unit = 0.0}.validate(),
+            "min_gate_unit: value is 0; rule: must lie in (0, 1] (1: in units of σz² alone)");
+  EXPECT_TRUE(ConstantVelocityOptions{.min_gate_unit = 1.5}.validate().has_value());
   EXPECT_EQ(ConstantVelocityOptions{.max_history = 4}.validate(),
             "max_history: value is 4; rule: must be > change_lag = 6");
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d(2.0, 0.0, 2.0), 1e-4),

@@ -28,7 +28,10 @@
 /// checks say) are measured by the median normalized innovation of the last assemblies, and the
 /// change gate and the significance test are taken in those units (ConstantVelocityOptions::
 /// misfit_window); for the gate, at most max_misfit_scale of them, since the unit is measured on
-/// the residuals the gate judges.
+/// the residuals the gate judges. With min_gate_unit < 1 (off by default), where no recent
+/// model errs, the gate's unit is the plant's own, down to min_gate_unit: a plant measured more
+/// precisely than σz² (the paper's is noise-free) shows a turn of its drift far below σz
+/// (gate_unit()).
 ///
 /// Relinearization. A model fitted where the estimate put an assembly is used, after later
 /// fits, where they put it; the owner can refit it there (entry_point(), relinearize()), which
@@ -105,8 +108,8 @@ class ConstantVelocityEstimator {
   [[nodiscard]] Index changes() const noexcept { return estimate_.changes; }
   [[nodiscard]] bool changed() const noexcept { return estimate_.changed; }
   /// The change gate's reading at the last fit: the last change_window entries' mean squared
-  /// normalized residual over change_gate² · min(misfit_scale(), max_misfit_scale); changed()
-  /// holds where it exceeds 1. NaN where the history was too short to consult the gate.
+  /// normalized residual over change_gate² · gate_unit(); changed() holds where it exceeds 1. NaN
+  /// where the history was too short to consult the gate.
   [[nodiscard]] double change_ratio() const noexcept { return estimate_.change_ratio; }
   /// Whether the history shows an offset: the fit explains it better than δu = 0 by more than
   /// chance would (see ConstantVelocityOptions::significance).
@@ -162,6 +165,19 @@ class ConstantVelocityEstimator {
   /// residuals (which 2d unknowns absorb until the history holds well over 2d entries), it
   /// speaks at any d.
   [[nodiscard]] double prediction_scale() const noexcept { return prediction_misfit_.scale(); }
+  /// The change gate's unit, in units of σz²: min(misfit_scale(), max_misfit_scale) where one
+  /// of the last misfit_window entries' models erred; otherwise the plant's own, the median
+  /// innovation ν²/(σz² + τ²) of the last misfit_window entries over χ²(1)'s median, within
+  /// [min_gate_unit, 1] (ConstantVelocityOptions::min_gate_unit, 1 by default: σz² alone; 1
+  /// until half the window is in).
+  [[nodiscard]] double gate_unit() const noexcept {
+    const double misfit = std::min(model_misfit_.scale(), options_.max_misfit_scale);
+    const Index recent = std::min(history_.size, options_.misfit_window);
+    for (Index i = history_.size - recent; i < history_.size; ++i) {
+      if (history_.model_variances(slot(i)) > 0.0) return misfit;
+    }
+    return std::clamp(innovation_misfit_.unfloored(), options_.min_gate_unit, 1.0);
+  }
 
   /// The time of history entry i (0 the oldest).
   [[nodiscard]] Index entry_time(Index i) const noexcept { return time_of(i); }
@@ -377,8 +393,7 @@ class ConstantVelocityEstimator {
       sum += history_.weights(slot(i)) * e * e;
     }
     const double mean = sum / static_cast<double>(window);
-    const double allowed = options_.change_gate * options_.change_gate *
-                           std::min(model_misfit_.scale(), options_.max_misfit_scale);
+    const double allowed = options_.change_gate * options_.change_gate * gate_unit();
     estimate_.change_ratio = mean / allowed;
     return mean > allowed;
   }
@@ -574,15 +589,19 @@ class ConstantVelocityEstimator {
     void clear() noexcept {
       count_ = 0;
       scale_ = 1.0;
+      unfloored_ = 1.0;
     }
     void add(double normalized) {
       ring_[count_ % ring_.size()] = normalized;
       ++count_;
       const std::size_t kept = std::min(ring_.size(), count_);
       if (kept < ring_.size() / 2 + 1) return;
-      scale_ = std::max(1.0, median_of_first(ring_, kept, sorted_) / chi2_median);
+      unfloored_ = median_of_first(ring_, kept, sorted_) / chi2_median;
+      scale_ = std::max(1.0, unfloored_);
     }
     [[nodiscard]] double scale() const noexcept { return scale_; }
+    /// The median over χ²(1)'s, not floored at 1 (1 until half of n are in).
+    [[nodiscard]] double unfloored() const noexcept { return unfloored_; }
 
     // The entries of the ring that are in (the first min(n, count) slots), the count and the
     // scale; the sorted copy is a workspace.
@@ -607,6 +626,9 @@ class ConstantVelocityEstimator {
       ring_.swap(values);
       count_ = static_cast<std::size_t>(count);
       scale_ = scale;
+      // Not saved: it follows from the ring as add() computed it.
+      unfloored_ =
+          kept < ring_.size() / 2 + 1 ? 1.0 : median_of_first(ring_, kept, sorted_) / chi2_median;
     }
 
    private:
@@ -614,10 +636,12 @@ class ConstantVelocityEstimator {
     std::vector<double> sorted_;
     std::size_t count_ = 0;
     double scale_ = 1.0;
+    double unfloored_ = 1.0;
   };
   static constexpr double chi2_median = 0.4549;  // of χ²(1)
   MedianMisfit model_misfit_;                    // entries whose model errs: misfit_scale()
   MedianMisfit prediction_misfit_;               // every entry: prediction_scale()
+  MedianMisfit innovation_misfit_;               // every entry, ν² / (σz² + τ²): gate_unit()
   OffsetMatrix last_hessian_;                    // the last H added, as fitted
   SolveSummary last_solve_;
   Workspace work_;
@@ -669,6 +693,7 @@ ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width
   last_hessian_.resize(d, d);
   model_misfit_.resize(options_.misfit_window);
   prediction_misfit_.resize(options_.misfit_window);
+  innovation_misfit_.resize(options_.misfit_window);
 }
 
 template <int N>
@@ -691,6 +716,7 @@ void ConstantVelocityEstimator<N>::reset(Index time, const OffsetVector& positio
   fits_.count = 0;
   model_misfit_.clear();
   prediction_misfit_.clear();
+  innovation_misfit_.clear();
   estimate_.changes = 0;
   estimate_.changed = false;
   estimate_.fitted = false;
@@ -766,6 +792,7 @@ double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& mo
         work_.hessian_covariance.cwiseProduct(work_.hessian_covariance.transpose()).sum() /
         (2.0 * predicted * predicted);
     prediction_misfit_.add(residual * residual / (variance + second_order));
+    innovation_misfit_.add(residual * residual * history_.weights(slot(history_.size - 1)));
   }
   return normalized;
 }
@@ -890,7 +917,8 @@ nlohmann::json ConstantVelocityEstimator<N>::save() const {
       {"significant", estimate_.significant},
       {"change_ratio", json_state::number_to_json(estimate_.change_ratio)},
       {"misfit", model_misfit_.save()},
-      {"prediction_misfit", prediction_misfit_.save()}};
+      {"prediction_misfit", prediction_misfit_.save()},
+      {"innovation_misfit", innovation_misfit_.save()}};
 }
 
 template <int N>
@@ -997,6 +1025,9 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   MedianMisfit prediction_misfit = prediction_misfit_;
   const nlohmann::json& saved_prediction = field(saved, "prediction_misfit");
   json_state::within("prediction_misfit", [&] { prediction_misfit.restore(saved_prediction); });
+  MedianMisfit innovation_misfit = innovation_misfit_;
+  const nlohmann::json& saved_innovation = field(saved, "innovation_misfit");
+  json_state::within("innovation_misfit", [&] { innovation_misfit.restore(saved_innovation); });
 
   // Nothing throws from here on.
   history_ = std::move(history);
@@ -1007,6 +1038,7 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   last_solve_ = SolveSummary{};
   model_misfit_ = std::move(misfit);
   prediction_misfit_ = std::move(prediction_misfit);
+  innovation_misfit_ = std::move(innovation_misfit);
 }
 
 // The run-time size: the ActiveController of the experiments, the CLI, the Python module, the
