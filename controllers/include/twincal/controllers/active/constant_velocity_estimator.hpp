@@ -165,13 +165,14 @@ class ConstantVelocityEstimator {
   /// residuals (which 2d unknowns absorb until the history holds well over 2d entries), it
   /// speaks at any d.
   [[nodiscard]] double prediction_scale() const noexcept { return prediction_misfit_.scale(); }
-  /// The change gate's unit, in units of σz²: min(misfit_scale(), max_misfit_scale) where one
-  /// of the last misfit_window entries' models erred; otherwise the plant's own, the median
-  /// innovation ν²/(σz² + τ²) of the last misfit_window entries over χ²(1)'s median, within
-  /// [min_gate_unit, 1] (ConstantVelocityOptions::min_gate_unit, 1 by default: σz² alone; 1
-  /// until half the window is in).
+  /// The change gate's unit, in units of σz²: min(misfit_scale(), max_misfit_scale). With
+  /// ConstantVelocityOptions::min_gate_unit < 1 (off by default), where none of the last
+  /// misfit_window entries' models erred, the plant's own instead: the median innovation
+  /// ν²/(σz² + τ²) of the last misfit_window entries over χ²(1)'s median, within
+  /// [min_gate_unit, 1] (1 until half the window is in).
   [[nodiscard]] double gate_unit() const noexcept {
     const double misfit = std::min(model_misfit_.scale(), options_.max_misfit_scale);
+    if (options_.min_gate_unit >= 1.0) return misfit;
     const Index recent = std::min(history_.size, options_.misfit_window);
     for (Index i = history_.size - recent; i < history_.size; ++i) {
       if (history_.model_variances(slot(i)) > 0.0) return misfit;
