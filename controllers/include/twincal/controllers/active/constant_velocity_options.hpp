@@ -63,9 +63,9 @@ struct ConstantVelocityOptions {
   /// estimate that predicts it worse than σz (d = 32), keeps the unit at 1. 1 (off: the unit
   /// is σz², or the models' misfit scale, as without the option) by default: at 0.01, over ten seed
   /// pairs, the FEM body/ABC twin's residual falls from 0.12–0.23 to 0.08–0.15, the analytic
-  /// quadratic twin's at d = 3 by about half and the door's lost runs from 9–10 to 3–7 of 10, but
-  /// body/all runs up to 0.04 higher and the door misses its residual target on a held-out pair
-  /// (docs/reproduction.md, "The change gate in the plant's own units").
+  /// quadratic twin's at d = 3 by a quarter to a half and the door's lost runs from 9–10 to 3–7 of
+  /// 10, but body/all runs up to 0.04 higher and the door misses its residual target on a held-out
+  /// pair (docs/reproduction.md, "The change gate in the plant's own units").
   double min_gate_unit = 1.0;
   /// At a change the fit restarts from its estimate of `change_lag` assemblies ago (before the
   /// change could bias it), keeping only the assemblies measured since then.
