@@ -595,9 +595,7 @@ class ConstantVelocityEstimator {
     void add(double normalized) {
       ring_[count_ % ring_.size()] = normalized;
       ++count_;
-      const std::size_t kept = std::min(ring_.size(), count_);
-      if (kept < ring_.size() / 2 + 1) return;
-      unfloored_ = median_of_first(ring_, kept, sorted_) / chi2_median;
+      unfloored_ = median_scale(std::min(ring_.size(), count_));
       scale_ = std::max(1.0, unfloored_);
     }
     [[nodiscard]] double scale() const noexcept { return scale_; }
@@ -628,11 +626,16 @@ class ConstantVelocityEstimator {
       count_ = static_cast<std::size_t>(count);
       scale_ = scale;
       // Not saved: it follows from the ring as add() computed it.
-      unfloored_ =
-          kept < ring_.size() / 2 + 1 ? 1.0 : median_of_first(ring_, kept, sorted_) / chi2_median;
+      unfloored_ = median_scale(kept);
     }
 
    private:
+    // The median of the first `kept` entries over χ²(1)'s; 1 until half of n are in.
+    [[nodiscard]] double median_scale(std::size_t kept) {
+      if (kept < ring_.size() / 2 + 1) return 1.0;
+      return median_of_first(ring_, kept, sorted_) / chi2_median;
+    }
+
     std::vector<double> ring_;
     std::vector<double> sorted_;
     std::size_t count_ = 0;
