@@ -23,7 +23,7 @@ struct OptionField {
   std::variant<double Options::*, Index Options::*, int Options::*, bool Options::*> member;
 };
 
-constexpr std::array<OptionField<ActiveOptions>, 22> active_fields{{
+constexpr std::array<OptionField<ActiveOptions>, 23> active_fields{{
     {"process_variance", &ActiveOptions::process_variance},
     {"min_process_variance", &ActiveOptions::min_process_variance},
     {"max_process_variance", &ActiveOptions::max_process_variance},
@@ -46,9 +46,10 @@ constexpr std::array<OptionField<ActiveOptions>, 22> active_fields{{
     {"audit_window", &ActiveOptions::audit_window},
     {"audit_misfit", &ActiveOptions::audit_misfit},
     {"fit_at_audited_arm", &ActiveOptions::fit_at_audited_arm},
+    {"change_test_after_refit", &ActiveOptions::change_test_after_refit},
 }};
 
-constexpr std::array<OptionField<ConstantVelocityOptions>, 16> trajectory_fields{{
+constexpr std::array<OptionField<ConstantVelocityOptions>, 17> trajectory_fields{{
     {"initial_position_fraction", &ConstantVelocityOptions::initial_position_fraction},
     {"position_fraction", &ConstantVelocityOptions::position_fraction},
     {"velocity_fraction", &ConstantVelocityOptions::velocity_fraction},
@@ -57,6 +58,7 @@ constexpr std::array<OptionField<ConstantVelocityOptions>, 16> trajectory_fields
     {"misfit_window", &ConstantVelocityOptions::misfit_window},
     {"max_misfit_scale", &ConstantVelocityOptions::max_misfit_scale},
     {"min_gate_unit", &ConstantVelocityOptions::min_gate_unit},
+    {"min_erring_gate_unit", &ConstantVelocityOptions::min_erring_gate_unit},
     {"change_lag", &ConstantVelocityOptions::change_lag},
     {"change_position_spread", &ConstantVelocityOptions::change_position_spread},
     {"change_velocity_spread", &ConstantVelocityOptions::change_velocity_spread},

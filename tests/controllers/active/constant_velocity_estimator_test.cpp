@@ -296,8 +296,12 @@ struct AfterTurn {
   double unit = 0.0;
 };
 
-AfterTurn through_a_turn(const ConstantVelocityOptions& options, const Eigen::Vector3d& velocity,
-                         double noise_sd, double model_variance, std::uint64_t noise_seed) {
+// With ChangeTest::after_refit each fit is followed by test_change() (no model is refitted: the
+// scenario's model is the plant's), and the unit reported is refitted_gate_unit().
+AfterTurn through_a_turn(
+    const ConstantVelocityOptions& options, const Eigen::Vector3d& velocity, double noise_sd,
+    double model_variance, std::uint64_t noise_seed,
+    ConstantVelocityEstimator<3>::ChangeTest test = ConstantVelocityEstimator<3>::ChangeTest::now) {
   DriftScenario scenario;
   ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4, options);
   estimator.reset(0, Eigen::Vector3d::Zero());
@@ -310,13 +314,16 @@ AfterTurn through_a_turn(const ConstantVelocityOptions& options, const Eigen::Ve
     const double z = scenario.plant(u, offset) + noise_sd * noise.normal();
     const Index before = estimator.changes();
     estimator.add(t, scenario.model, u, z, model_variance);
-    estimator.fit(t + 1);
+    estimator.fit(t + 1, test);
+    if (test == ConstantVelocityEstimator<3>::ChangeTest::after_refit) estimator.test_change();
     if (t < 40) continue;
     result.changes += estimator.changes() - before;
     result.error += (estimator.position() - offset).norm() / 30.0;
   }
   result.scale = estimator.misfit_scale();
-  result.unit = estimator.gate_unit();
+  result.unit = test == ConstantVelocityEstimator<3>::ChangeTest::now
+                    ? estimator.gate_unit()
+                    : estimator.refitted_gate_unit();
   return result;
 }
 
@@ -339,6 +346,19 @@ TEST(ConstantVelocityEstimator, ABoundOnTheMisfitScaleSeesATurnItWouldHide) {
   EXPECT_LT(bounded.error, 0.65 * unbounded.error);
 }
 
+// Through a turn below the noise: a gate in units of σz² or more (`in_sigma`) never fires; one in
+// the plant's own units, down to `min_unit` (`own`), fires, its unit well below 1, and the
+// estimate's error after the turn is less than half.
+void expect_the_plants_unit_to_see_the_turn(const AfterTurn& in_sigma, const AfterTurn& own,
+                                            double min_unit) {
+  EXPECT_EQ(in_sigma.changes, 0);
+  EXPECT_GE(in_sigma.unit, 1.0);
+  EXPECT_GE(own.changes, 1);
+  EXPECT_LT(own.unit, 0.1);
+  EXPECT_GE(own.unit, min_unit);
+  EXPECT_LT(own.error, 0.5 * in_sigma.error);
+}
+
 // A noise-free plant (the paper's) whose drift turns back at assembly 40 in residuals far below
 // σz: in units of σz² (min_gate_unit = 1, the default) the gate never sees the turn and the
 // estimate lags it; in the plant's own units (min_gate_unit = 0.01: the innovations' median,
@@ -352,15 +372,54 @@ TEST(ConstantVelocityEstimator, AGateInThePlantsOwnUnitsSeesATurnBelowTheNoise) 
   };
   const AfterTurn in_sigma = after_turn(1.0, 0.0);
   constexpr double min_gate_unit = 0.01;
-  const AfterTurn own = after_turn(min_gate_unit, 0.0);
-  EXPECT_EQ(in_sigma.changes, 0);
+  expect_the_plants_unit_to_see_the_turn(in_sigma, after_turn(min_gate_unit, 0.0), min_gate_unit);
   EXPECT_DOUBLE_EQ(in_sigma.unit, 1.0);
-  EXPECT_GE(own.changes, 1);
-  EXPECT_LT(own.unit, 0.1);
-  EXPECT_GE(own.unit, min_gate_unit);
-  EXPECT_LT(own.error, 0.5 * in_sigma.error);
   const AfterTurn noisy = after_turn(min_gate_unit, 0.01);
   EXPECT_GT(noisy.unit, 0.4);
+}
+
+// Models that claim an error (τ² = 1e-6) on a noise-free plant whose drift turns back at
+// assembly 40 in residuals far below σz. Tested as each fit is made, the gate is in units of
+// the misfit scale (at least 1) and never sees the turn; tested after the refit
+// (test_change()), in the plant's own units (min_erring_gate_unit 0.01, the default), it fires and
+// the error over the 30 assemblies after the turn falls by more than half. At 1 the test after
+// the refit is the test as fitted, to the last digit.
+TEST(ConstantVelocityEstimator, AChangeTestAfterTheRefitJudgesErringModelsInThePlantsUnits) {
+  using ChangeTest = ConstantVelocityEstimator<3>::ChangeTest;
+  const auto after_turn = [](double min_erring_gate_unit, ChangeTest test) {
+    return through_a_turn({.min_erring_gate_unit = min_erring_gate_unit},
+                          Eigen::Vector3d(0.002, -0.004, 0.003), 0.0, 1e-6, 13, test);
+  };
+  constexpr double unit = ConstantVelocityOptions{}.min_erring_gate_unit;
+  const AfterTurn as_fitted = after_turn(unit, ChangeTest::now);
+  expect_the_plants_unit_to_see_the_turn(as_fitted, after_turn(unit, ChangeTest::after_refit),
+                                         unit);
+  const AfterTurn off = after_turn(1.0, ChangeTest::after_refit);
+  EXPECT_EQ(off.changes, as_fitted.changes);
+  EXPECT_EQ(off.error, as_fitted.error);
+  EXPECT_EQ(off.unit, as_fitted.unit);
+}
+
+// Where the models are exact (τ² = 0) the test after the refit is the gate fit() consults, to
+// the last digit, through a turn the gate sees (a plant as noisy as σz); test_change() before
+// the first fit does nothing.
+TEST(ConstantVelocityEstimator, AChangeTestAfterTheRefitOfExactModelsIsTheTestAsFitted) {
+  using ChangeTest = ConstantVelocityEstimator<3>::ChangeTest;
+  const auto after_turn = [](ChangeTest test) {
+    return through_a_turn({}, Eigen::Vector3d(0.005, -0.01, 0.0075), 0.01, 0.0, 17, test);
+  };
+  const AfterTurn as_fitted = after_turn(ChangeTest::now);
+  const AfterTurn refitted = after_turn(ChangeTest::after_refit);
+  EXPECT_GE(as_fitted.changes, 1);
+  EXPECT_EQ(refitted.changes, as_fitted.changes);
+  EXPECT_EQ(refitted.error, as_fitted.error);
+  EXPECT_EQ(refitted.unit, as_fitted.unit);
+
+  ConstantVelocityEstimator<3> unfitted(Eigen::Vector3d::Constant(2.0), 1e-4);
+  unfitted.reset(0, Eigen::Vector3d::Zero());
+  unfitted.test_change();
+  EXPECT_EQ(unfitted.changes(), 0);
+  EXPECT_TRUE(std::isnan(unfitted.change_ratio()));
 }
 
 // prediction_scale() sees a plant its models do not explain even when they claim to be exact:
@@ -575,6 +634,10 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(ConstantVelocityOptions{.min_gate_unit = 0.0}.validate(),
             "min_gate_unit: value is 0; rule: must lie in (0, 1] (1: in units of σz² alone)");
   EXPECT_TRUE(ConstantVelocityOptions{.min_gate_unit = 1.5}.validate().has_value());
+  EXPECT_EQ(ConstantVelocityOptions{.min_erring_gate_unit = 0.0}.validate(),
+            "min_erring_gate_unit: value is 0; rule: must lie in (0, 1] (1: in units of the "
+            "misfit scale)");
+  EXPECT_TRUE(ConstantVelocityOptions{.min_erring_gate_unit = 1.5}.validate().has_value());
   EXPECT_EQ(ConstantVelocityOptions{.max_history = 4}.validate(),
             "max_history: value is 4; rule: must be > change_lag = 6");
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d(2.0, 0.0, 2.0), 1e-4),

@@ -660,7 +660,11 @@ class ActiveCalibrationController {
 
     ++innovation_count_;
     const Index changes_before = estimator_.changes();
-    estimator_.fit(time_ + 1);
+    using ChangeTest = typename ConstantVelocityEstimator<N>::ChangeTest;
+    const ChangeTest test = TwinWithKeptAssemblies<T> && options_.change_test_after_refit
+                                ? ChangeTest::after_refit
+                                : ChangeTest::now;
+    estimator_.fit(time_ + 1, test);
     // The report covers every fit of this assembly (a relinearization fits again): a change
     // declared by either, and the gate's larger reading (fmax ignores a gate not consulted).
     step_.change_ratio = estimator_.change_ratio();
@@ -670,7 +674,11 @@ class ActiveCalibrationController {
       kept_times_[at] = time_;
       kept_model_errors_[at] = step_.model_error;
       if (relinearize()) {
-        estimator_.fit(time_ + 1);
+        estimator_.fit(time_ + 1, test);
+        step_.change_ratio = std::fmax(step_.change_ratio, estimator_.change_ratio());
+      }
+      if (test == ChangeTest::after_refit) {
+        estimator_.test_change();
         step_.change_ratio = std::fmax(step_.change_ratio, estimator_.change_ratio());
       }
     }

@@ -165,6 +165,22 @@ struct ActiveOptions {
   /// turns. Before refits were weighed where used, that cost was 0.27 → 0.61 × and the option
   /// stayed off.
   bool fit_at_audited_arm = true;
+  /// A fit moves the history's entries, and a model used beyond its check's reach (contact,
+  /// kinks) can be wrong there by many σz: a change gate consulted on that fit restarts the
+  /// estimator at the models' error, not the plant's turn (traced: contact at d = 19, 12 of 13
+  /// declared changes in a run whose drift turned once, each gate reading 10⁴–10⁶ times the
+  /// history's usual one before the refit and back to it after). true: the gate is consulted
+  /// once per assembly, on the fit after relinearization has refitted those models (on the first
+  /// fit where none needed it), in the units of ConstantVelocityOptions::min_erring_gate_unit
+  /// (ConstantVelocityEstimator::ChangeTest::after_refit); false: on each fit as it is made.
+  /// Twins whose models pass their checks are not refitted, so nothing changes for them; a twin
+  /// whose assemblies cannot be kept (TwinWithKeptAssemblies) is never refitted and tests on
+  /// each fit either way. Measured on 2026-11-29 (docs/reproduction.md, "The change test after
+  /// the refit"): with min_erring_gate_unit 0.01, runs that lost the offset over the analytic
+  /// family's 96 development and held-out cells 15 → 10 and the sum of the residual ratios to
+  /// the baseline 13.61 → 12.48; the user's shapes on five seed pairs 7 → 7 and 8.95 → 7.95;
+  /// body-contact/ABC 0.231 → 0.129; door-contact 10 → 7 lost.
+  bool change_test_after_refit = true;
 
   [[nodiscard]] std::optional<std::string> validate() const {
     return first_problem(

@@ -22,7 +22,10 @@
 /// `change_gate` (root mean square, normalized by σz), the velocity has changed: the fit
 /// restarts from the estimate it made `change_lag` assemblies ago (the change could not bias it
 /// then), with a prior that widens the offset and the velocity along the old velocity's line,
-/// and keeps only the assemblies measured since.
+/// and keeps only the assemblies measured since. The gate judges the residuals of the fit as it
+/// is made (ChangeTest::now), or, where the owner refits the models that the fit uses beyond
+/// their checks' reach, of the fit after that refit (ChangeTest::after_refit, test_change()):
+/// a stale model can err there by many σz, which is not a change of the plant.
 ///
 /// Misfit. Residuals larger than σz² + τ_k² explains (a twin whose models err more than their
 /// checks say) are measured by the median normalized innovation of the last assemblies, and the
@@ -31,7 +34,8 @@
 /// the residuals the gate judges. With min_gate_unit < 1 (off by default), where no recent
 /// model errs, the gate's unit is the plant's own, down to min_gate_unit: a plant measured more
 /// precisely than σz² (the paper's is noise-free) shows a turn of its drift far below σz
-/// (gate_unit()).
+/// (gate_unit()). After a refit (test_change()), where models err, min_erring_gate_unit (0.01 by
+/// default) does the same (refitted_gate_unit()).
 ///
 /// Relinearization. A model fitted where the estimate put an assembly is used, after later
 /// fits, where they put it; the owner can refit it there (entry_point(), relinearize()), which
@@ -150,8 +154,20 @@ class ConstantVelocityEstimator {
   double add(Index time, const QuadraticModel<N>& model, const OffsetVector& control, double z,
              double model_variance = 0.0);
 
+  /// When a fit consults the change gate.
+  enum class ChangeTest {
+    now,          ///< fit() consults it on its estimate, with the history's models as they are
+    after_refit,  ///< fit() does not: its owner refits the models the fit uses beyond their
+                  ///< checks' reach (relinearize()), fits again, and calls test_change()
+  };
+
   /// The estimate at assembly `time` from the prior and the history (see the file comment).
-  void fit(Index time);
+  void fit(Index time, ChangeTest test = ChangeTest::now);
+
+  /// Consults the change gate on the last fit, whose models the owner has refitted where it
+  /// uses them (ChangeTest::after_refit), in units of refitted_gate_unit(); where it declares a
+  /// change, restarts and fits again as fit() does. Nothing before the first fit.
+  void test_change();
 
   /// s², the misfit of the history's entries whose model errs, in units of their residuals'
   /// variance σz² + τ² (>= 1; ConstantVelocityOptions::misfit_window): the unit of the
@@ -172,12 +188,16 @@ class ConstantVelocityEstimator {
   /// [min_gate_unit, 1] (1 until half the window is in).
   [[nodiscard]] double gate_unit() const noexcept {
     const double misfit = std::min(model_misfit_.scale(), options_.max_misfit_scale);
-    if (options_.min_gate_unit >= 1.0) return misfit;
-    const Index recent = std::min(history_.size, options_.misfit_window);
-    for (Index i = history_.size - recent; i < history_.size; ++i) {
-      if (history_.model_variances(slot(i)) > 0.0) return misfit;
-    }
+    if (options_.min_gate_unit >= 1.0 || recent_models_err()) return misfit;
     return std::clamp(innovation_misfit_.unfloored(), options_.min_gate_unit, 1.0);
+  }
+  /// The change gate's unit in test_change(): gate_unit(), except where one of the last
+  /// misfit_window entries' models erred and ConstantVelocityOptions::min_erring_gate_unit < 1:
+  /// the plant's own there, the median innovation ν²/(σz² + τ²) over χ²(1)'s median, within
+  /// [min_erring_gate_unit, 1].
+  [[nodiscard]] double refitted_gate_unit() const noexcept {
+    if (options_.min_erring_gate_unit >= 1.0 || !recent_models_err()) return gate_unit();
+    return std::clamp(innovation_misfit_.unfloored(), options_.min_erring_gate_unit, 1.0);
   }
 
   /// The time of history entry i (0 the oldest).
@@ -383,10 +403,19 @@ class ConstantVelocityEstimator {
     work_.factor.compute(work_.normal);
   }
 
+  // Whether one of the last misfit_window entries' models erred (τ² > 0).
+  [[nodiscard]] bool recent_models_err() const noexcept {
+    const Index recent = std::min(history_.size, options_.misfit_window);
+    for (Index i = history_.size - recent; i < history_.size; ++i) {
+      if (history_.model_variances(slot(i)) > 0.0) return true;
+    }
+    return false;
+  }
+
   // The root-mean-square normalized residual of the last change_window assemblies beyond the
-  // gate, in units of the misfit scale bounded by max_misfit_scale; the reading into
+  // gate, in units of `unit` (gate_unit() or refitted_gate_unit()); the reading into
   // estimate_.change_ratio.
-  bool recent_misfit(const StateVector& state, Index time) {
+  bool recent_misfit(const StateVector& state, Index time, double unit) {
     const Index window = options_.change_window;
     double sum = 0.0;
     for (Index i = history_.size - window; i < history_.size; ++i) {
@@ -394,7 +423,7 @@ class ConstantVelocityEstimator {
       sum += history_.weights(slot(i)) * e * e;
     }
     const double mean = sum / static_cast<double>(window);
-    const double allowed = options_.change_gate * options_.change_gate * gate_unit();
+    const double allowed = options_.change_gate * options_.change_gate * unit;
     estimate_.change_ratio = mean / allowed;
     return mean > allowed;
   }
@@ -802,7 +831,7 @@ double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& mo
 }
 
 template <int N>
-void ConstantVelocityEstimator<N>::fit(Index time) {
+void ConstantVelocityEstimator<N>::fit(Index time, ChangeTest test) {
   const Index d = dimension();
   estimate_.changed = false;
   estimate_.change_ratio = std::numeric_limits<double>::quiet_NaN();
@@ -832,7 +861,8 @@ void ConstantVelocityEstimator<N>::fit(Index time) {
       }
     }
   }
-  if (history_.size > options_.change_window + 2 && recent_misfit(work_.best, time)) {
+  if (test == ChangeTest::now && history_.size > options_.change_window + 2 &&
+      recent_misfit(work_.best, time, gate_unit())) {
     restart_at_change(time);
     work_.start = work_.best;
     best = solve(work_.start, time, work_.best);
@@ -840,6 +870,22 @@ void ConstantVelocityEstimator<N>::fit(Index time) {
     ++estimate_.changes;
   }
   last_solve_ = best;
+  estimate_.state = work_.best;
+  finish(time);
+}
+
+template <int N>
+void ConstantVelocityEstimator<N>::test_change() {
+  const Index time = estimate_.time;
+  if (!estimate_.fitted || history_.size <= options_.change_window + 2 ||
+      !recent_misfit(estimate_.state, time, refitted_gate_unit())) {
+    return;
+  }
+  restart_at_change(time);
+  work_.start = estimate_.state;
+  last_solve_ = solve(work_.start, time, work_.best);
+  estimate_.changed = true;
+  ++estimate_.changes;
   estimate_.state = work_.best;
   finish(time);
 }
