@@ -167,9 +167,10 @@ struct ActiveOptions {
   bool fit_at_audited_arm = true;
   /// A fit moves the history's entries, and a model used beyond its check's reach (contact,
   /// kinks) can be wrong there by many σz: a change gate consulted on that fit restarts the
-  /// estimator at the models' error, not the plant's turn (traced: contact at d = 19, 12 of 13
-  /// declared changes in a run whose drift turned once, each gate reading 10⁴–10⁶ times the
-  /// history's usual one before the refit and back to it after). true: the gate is consulted
+  /// estimator at the models' error, not the plant's turn (traced: contact at d = 19, changes
+  /// declared at 13 assemblies of a run whose drift turned once, 7 of the 10 restarts before the
+  /// turn on the first fit of an assembly; tested after the refit, one change, 4 assemblies after
+  /// the turn, and the run no longer lost). true: the gate is consulted
   /// once per assembly, on the fit after relinearization has refitted those models (on the first
   /// fit where none needed it), in the units of ConstantVelocityOptions::min_erring_gate_unit
   /// (ConstantVelocityEstimator::ChangeTest::after_refit); false: on each fit as it is made.
