@@ -170,9 +170,9 @@ struct ActiveOptions {
   /// estimator at the models' error, not the plant's turn (traced: contact at d = 19, changes
   /// declared at 13 assemblies of a run whose drift turned once, 7 of the 10 restarts before the
   /// turn on the first fit of an assembly; tested after the refit, one change, 4 assemblies after
-  /// the turn, and the run no longer lost). true: the gate is consulted
-  /// once per assembly, on the fit after relinearization has refitted those models (on the first
-  /// fit where none needed it), in the units of ConstantVelocityOptions::min_erring_gate_unit
+  /// the turn, and the run no longer lost). true: the gate is consulted once per assembly, on the
+  /// fit after relinearization has refitted those models (on the first fit where none needed
+  /// it), in the units of ConstantVelocityOptions::min_erring_gate_unit
   /// (ConstantVelocityEstimator::ChangeTest::after_refit); false: on each fit as it is made.
   /// Twins whose models pass their checks are not refitted, so nothing changes for them; a twin
   /// whose assemblies cannot be kept (TwinWithKeptAssemblies) is never refitted and tests on

@@ -187,17 +187,14 @@ class ConstantVelocityEstimator {
   /// ν²/(σz² + τ²) of the last misfit_window entries over χ²(1)'s median, within
   /// [min_gate_unit, 1] (1 until half the window is in).
   [[nodiscard]] double gate_unit() const noexcept {
-    const double misfit = std::min(model_misfit_.scale(), options_.max_misfit_scale);
-    if (options_.min_gate_unit >= 1.0 || recent_models_err()) return misfit;
-    return std::clamp(innovation_misfit_.unfloored(), options_.min_gate_unit, 1.0);
+    return recent_models_err() ? misfit_unit() : plant_unit(options_.min_gate_unit);
   }
   /// The change gate's unit in test_change(): gate_unit(), except where one of the last
   /// misfit_window entries' models erred and ConstantVelocityOptions::min_erring_gate_unit < 1:
   /// the plant's own there, the median innovation ν²/(σz² + τ²) over χ²(1)'s median, within
   /// [min_erring_gate_unit, 1].
   [[nodiscard]] double refitted_gate_unit() const noexcept {
-    if (options_.min_erring_gate_unit >= 1.0 || !recent_models_err()) return gate_unit();
-    return std::clamp(innovation_misfit_.unfloored(), options_.min_erring_gate_unit, 1.0);
+    return plant_unit(recent_models_err() ? options_.min_erring_gate_unit : options_.min_gate_unit);
   }
 
   /// The time of history entry i (0 the oldest).
@@ -403,6 +400,17 @@ class ConstantVelocityEstimator {
     work_.factor.compute(work_.normal);
   }
 
+  // The models' misfit scale as the gate's unit: min(misfit_scale(), max_misfit_scale).
+  [[nodiscard]] double misfit_unit() const noexcept {
+    return std::min(model_misfit_.scale(), options_.max_misfit_scale);
+  }
+  // The plant's own unit, the median innovation ν²/(σz² + τ²) over χ²(1)'s median, within
+  // [floor, 1]; a floor of 1 (the option off) gives misfit_unit().
+  [[nodiscard]] double plant_unit(double floor) const noexcept {
+    if (floor >= 1.0) return misfit_unit();
+    return std::clamp(innovation_misfit_.unfloored(), floor, 1.0);
+  }
+
   // Whether one of the last misfit_window entries' models erred (τ² > 0).
   [[nodiscard]] bool recent_models_err() const noexcept {
     const Index recent = std::min(history_.size, options_.misfit_window);
@@ -426,6 +434,16 @@ class ConstantVelocityEstimator {
     const double allowed = options_.change_gate * options_.change_gate * unit;
     estimate_.change_ratio = mean / allowed;
     return mean > allowed;
+  }
+
+  // A change of velocity declared at `time`: restarts (restart_at_change()) and solves from
+  // `from` (which may be work_.best) into work_.best.
+  SolveSummary restart_from(const StateVector& from, Index time) {
+    work_.start = from;
+    restart_at_change(time);
+    estimate_.changed = true;
+    ++estimate_.changes;
+    return solve(work_.start, time, work_.best);
   }
 
   // A change of velocity: the prior becomes the estimate of change_lag assemblies ago, widened
@@ -863,11 +881,7 @@ void ConstantVelocityEstimator<N>::fit(Index time, ChangeTest test) {
   }
   if (test == ChangeTest::now && history_.size > options_.change_window + 2 &&
       recent_misfit(work_.best, time, gate_unit())) {
-    restart_at_change(time);
-    work_.start = work_.best;
-    best = solve(work_.start, time, work_.best);
-    estimate_.changed = true;
-    ++estimate_.changes;
+    best = restart_from(work_.best, time);
   }
   last_solve_ = best;
   estimate_.state = work_.best;
@@ -881,11 +895,7 @@ void ConstantVelocityEstimator<N>::test_change() {
       !recent_misfit(estimate_.state, time, refitted_gate_unit())) {
     return;
   }
-  restart_at_change(time);
-  work_.start = estimate_.state;
-  last_solve_ = solve(work_.start, time, work_.best);
-  estimate_.changed = true;
-  ++estimate_.changes;
+  last_solve_ = restart_from(estimate_.state, time);
   estimate_.state = work_.best;
   finish(time);
 }
