@@ -422,6 +422,68 @@ TEST(ConstantVelocityEstimator, AChangeTestAfterTheRefitOfExactModelsIsTheTestAs
   EXPECT_TRUE(std::isnan(unfitted.change_ratio()));
 }
 
+// A noise-free drift at d = 12 (one measurement per assembly for 24 unknowns, so a restart's
+// prior weighs much) that at assembly `turn` turns back and also moves across its old line at
+// `across` times its speed: the mean error of the estimate over the assemblies after the turn,
+// with the restart prior's velocity floor across the old line at `floor`
+// (ConstantVelocityOptions::change_velocity_floor_fraction).
+double error_after_a_turn_across_the_line(double floor, Index turn, double across) {
+  constexpr Index d = 12;
+  constexpr Index assemblies = 70;
+  QuadraticModel<Dynamic> model;
+  model.center = VectorX::Zero(d);
+  model.half_gradient = VectorX::Zero(d);
+  model.hessian = MatrixX::Identity(d, d);
+  model.hessian.diagonal().head(d / 2).setConstant(2.0);
+  ConstantVelocityEstimator<Dynamic> estimator(VectorX::Constant(d, 2.0), 1e-4,
+                                               {.change_velocity_floor_fraction = floor});
+  estimator.reset(0, VectorX::Zero(d));
+  RandomStream draws(23);
+  VectorX velocity(d);
+  draws.fill_normal(velocity);
+  velocity *= 0.01 / velocity.norm();
+  VectorX sideways(d);
+  draws.fill_normal(sideways);
+  sideways -= sideways.dot(velocity) / velocity.squaredNorm() * velocity;
+  sideways *= across * 0.01 / sideways.norm();
+  VectorX probe(d);
+  VectorX offset = VectorX::Zero(d);
+  double error = 0.0;
+  for (Index t = 0; t < assemblies; ++t) {
+    model.value = 0.3 + 0.1 * std::sin(static_cast<double>(t));
+    draws.fill_normal(probe);
+    const VectorX u = estimator.position() + 0.02 * probe;
+    estimator.add(t, model, u, std::sqrt(model(VectorX(u - offset))));
+    if (t == turn) velocity = sideways - velocity;
+    offset += velocity;
+    estimator.fit(t + 1);
+    if (t >= turn) error += (estimator.position() - offset).norm();
+  }
+  EXPECT_GE(estimator.changes(), 1) << "floor " << floor << ", turn " << turn;
+  return error / static_cast<double>(assemblies - turn);
+}
+
+// At a change of velocity the restart prior spreads the velocity along the old one's line, and
+// across it by a floor. At 5e-4 of the box width per assembly (the default until 2026-11-29) the
+// floor held the estimate on the old line, however the drift turned: traced in the analytic
+// twins' lost runs at d = 19, the estimate moved at about half the offset's speed along a line
+// fitted from too few assemblies and drifted across it as far. At the default 2e-3 the estimate
+// follows a turn better, the more so the more it leaves the old line.
+TEST(ConstantVelocityEstimator, FollowsATurnThatLeavesTheOldLine) {
+  constexpr double old_floor = 5e-4;
+  const double floor = ConstantVelocityOptions{}.change_velocity_floor_fraction;
+  for (const Index turn : {20, 30, 40}) {
+    for (const double across : {0.0, 1.0, 2.0}) {
+      const double held = error_after_a_turn_across_the_line(old_floor, turn, across);
+      const double followed = error_after_a_turn_across_the_line(floor, turn, across);
+      EXPECT_LT(followed, held) << "turn " << turn << ", across " << across;
+      if (across == 2.0 && turn >= 30) {
+        EXPECT_LT(followed, 0.75 * held) << "turn " << turn << ", across " << across;
+      }
+    }
+  }
+}
+
 // prediction_scale() sees a plant its models do not explain even when they claim to be exact:
 // its answers run 5σz from them, and the scale passes the active controller's audit_misfit (4),
 // while a plant the models explain up to σz stays below it. It says so at d = 12 as at d = 3:

@@ -90,7 +90,15 @@ struct ConstantVelocityOptions {
   /// the velocity then estimated: a drift tends to keep its line and may turn back on it.
   double change_position_spread = 9.0;
   double change_velocity_spread = 4.0;
-  double change_velocity_floor_fraction = 5e-4;
+  /// The floor is how far the velocity may leave the old line. The line is the fit's, which at
+  /// d = 19 rests on fewer assemblies than its 2d unknowns: at 5e-4 (the default until 2026-11-29)
+  /// the restarts held the estimate on a wrong line, traced in lost runs moving at half the
+  /// offset's speed along the drift's line and as far across it. 2e-3 rather than 5e-4: on the
+  /// analytic family's 60 development cells lost runs 9 → 0, the sum of the residual ratios to
+  /// the baseline 8.05 → 8.16; on 60 held-out cells 4 → 0 lost, 7.69 → 8.06; on the user's shapes
+  /// (never used in the choice) 7 → 0 lost, 7.95 → 7.90. 5e-3: 1 lost, 8.86 on the development
+  /// cells (docs/reproduction.md, "The restart's velocity across the old line").
+  double change_velocity_floor_fraction = 2e-3;
   /// The offset is significant when its fit beats δu = 0 by more than the χ²(2d) mean plus
   /// `significance` standard deviations of the normalized data cost (a twin whose quality hardly
   /// depends on the offset, e.g. the door, never gets there, and is then not corrected).
