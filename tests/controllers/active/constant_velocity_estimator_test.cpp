@@ -422,6 +422,17 @@ TEST(ConstantVelocityEstimator, AChangeTestAfterTheRefitOfExactModelsIsTheTestAs
   EXPECT_TRUE(std::isnan(unfitted.change_ratio()));
 }
 
+// A known quadratic at d locators, centred at 0, curvature 2 on the first half and 1 on the rest.
+template <int N>
+QuadraticModel<N> two_curvature_model(Index d) {
+  QuadraticModel<N> model;
+  model.center = Vector<N>::Zero(d);
+  model.half_gradient = Vector<N>::Zero(d);
+  model.hessian = SquareMatrix<N>::Identity(d, d);
+  model.hessian.diagonal().head(d / 2).setConstant(2.0);
+  return model;
+}
+
 // A noise-free drift at d = 12 (one measurement per assembly for 24 unknowns, so a restart's
 // prior weighs much) that at assembly `turn` turns back and also moves across its old line at
 // `across` times its speed: the mean error of the estimate over the assemblies after the turn,
@@ -430,11 +441,7 @@ TEST(ConstantVelocityEstimator, AChangeTestAfterTheRefitOfExactModelsIsTheTestAs
 double error_after_a_turn_across_the_line(double floor, Index turn, double across) {
   constexpr Index d = 12;
   constexpr Index assemblies = 70;
-  QuadraticModel<Dynamic> model;
-  model.center = VectorX::Zero(d);
-  model.half_gradient = VectorX::Zero(d);
-  model.hessian = MatrixX::Identity(d, d);
-  model.hessian.diagonal().head(d / 2).setConstant(2.0);
+  QuadraticModel<Dynamic> model = two_curvature_model<Dynamic>(d);
   ConstantVelocityEstimator<Dynamic> estimator(VectorX::Constant(d, 2.0), 1e-4,
                                                {.change_velocity_floor_fraction = floor});
   estimator.reset(0, VectorX::Zero(d));
@@ -491,11 +498,7 @@ TEST(ConstantVelocityEstimator, FollowsATurnThatLeavesTheOldLine) {
 // it, and its variance has the second-order term that keeps the consistent plant below 4 there.
 template <int N>
 double prediction_scale_of(Index d, double noise) {
-  QuadraticModel<N> model;
-  model.center = Vector<N>::Zero(d);
-  model.half_gradient = Vector<N>::Zero(d);
-  model.hessian = SquareMatrix<N>::Identity(d, d);
-  model.hessian.diagonal().head(d / 2).setConstant(2.0);
+  QuadraticModel<N> model = two_curvature_model<N>(d);
   ConstantVelocityEstimator<N> estimator(Vector<N>::Constant(d, 2.0), 1e-4);
   estimator.reset(0, Vector<N>::Zero(d));
   RandomStream draws(17);
