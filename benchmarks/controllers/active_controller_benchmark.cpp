@@ -1,5 +1,5 @@
-// Time per assembly (one propose + observe) of the active controller (issue 12) over the control
-// dimension d = 3, 12, 19, 32, with the Q-evaluations per assembly it spends (its budget is
+// Time per assembly (one propose + observe) of the active controller (docs/controllers.md) over the
+// control dimension d = 3, 12, 19, 32, with the Q-evaluations per assembly it spends (its budget is
 // 4(d + 1)²): the cost a user pays to calibrate every locator at once. Same episodes and twin as
 // the w-controller's benchmark (episode_benchmark.hpp), so the two tables compare directly.
 #include <benchmark/benchmark.h>

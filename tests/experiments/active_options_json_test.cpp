@@ -83,6 +83,8 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"trajectory.misfit_window", 20, [](auto& o) { return o.trajectory.misfit_window == 20; }},
       {"trajectory.max_misfit_scale", 25.0,
        [](auto& o) { return o.trajectory.max_misfit_scale == 25.0; }},
+      {"trajectory.max_position_fraction", 0.25,
+       [](auto& o) { return o.trajectory.max_position_fraction == 0.25; }},
       {"trajectory.min_gate_unit", 0.1, [](auto& o) { return o.trajectory.min_gate_unit == 0.1; }},
       {"trajectory.min_erring_gate_unit", 0.1,
        [](auto& o) { return o.trajectory.min_erring_gate_unit == 0.1; }},

@@ -1,7 +1,7 @@
 // The staged joining process against a direct, stage-by-stage simulation that solves each
-// stage's full Lagrange (KKT) system and releases the clamp and gun forces explicitly; and the
-// note of issue 7: with a release onto a nominal 3-point frame and translation-only welds the
-// final shape does not depend on the locator adjustment.
+// stage's full Lagrange (KKT) system and releases the clamp and gun forces explicitly; and why
+// the process needs more than that: with a release onto a nominal 3-point frame and
+// translation-only welds the final shape does not depend on the locator adjustment.
 
 #include "twincal/sheet_metal/sheet_metal_process.hpp"
 

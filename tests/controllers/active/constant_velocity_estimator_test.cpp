@@ -524,6 +524,32 @@ TEST(ConstantVelocityEstimator, ItsPredictionScaleSeesAPlantTheModelsDoNotExplai
   EXPECT_GT(prediction_scale_of<Dynamic>(12, 0.05), 4.0);
 }
 
+// An offset beyond a wall (ConstantVelocityOptions::max_position_fraction 1, one box width of 2:
+// ±2) is not followed past it: the estimate stays within the wall (to a hundredth of the box:
+// the wall is a stiff penalty, not a constraint), where without it (infinity) it goes past. The
+// covariance is the data's and the prior's, not the wall's (whose σ² is (1e-4 · 2)² = 4e-8): a
+// locator at the wall is not pinned there.
+TEST(ConstantVelocityEstimator, KeepsItsOffsetWithinTheWall) {
+  const Eigen::Vector3d offset(3.0, -2.6, 0.2);
+  const auto run = [&offset](double wall) {
+    DriftScenario scenario;
+    ConstantVelocityEstimator<3> estimator(Eigen::Vector3d::Constant(2.0), 1e-4,
+                                           {.max_position_fraction = wall});
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    for (Index t = 0; t < 30; ++t) {
+      const Eigen::Vector3d u = scenario.next(t, estimator.position());
+      estimator.add(t, scenario.model, u, scenario.plant(u, offset));
+      estimator.fit(t + 1);
+      EXPECT_LE(estimator.position().cwiseAbs().maxCoeff(), 2.0 * wall + 0.02) << "t = " << t;
+    }
+    return estimator;
+  };
+  const ConstantVelocityEstimator<3> walled = run(1.0);
+  EXPECT_GT(walled.position_covariance().diagonal().minCoeff(), 100 * 4e-8);
+  const ConstantVelocityEstimator<3> free = run(ConstantVelocityOptions{}.max_position_fraction);
+  EXPECT_GT(free.position().cwiseAbs().maxCoeff(), 2.5);  // no wall by default
+}
+
 TEST(ConstantVelocityEstimator, RefusesABadRelinearizationAndKeepsItsState) {
   DriftScenario scenario;
   ConstantVelocityEstimator<3> estimator = make_estimator();
@@ -696,6 +722,16 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
   EXPECT_FALSE(ConstantVelocityOptions{.max_misfit_scale = std::numeric_limits<double>::infinity()}
                    .validate()
                    .has_value());
+  EXPECT_EQ(ConstantVelocityOptions{.max_position_fraction = 0.0}.validate(),
+            "max_position_fraction: value is 0; rule: must be > 0 (infinity: no wall)");
+  EXPECT_TRUE(
+      ConstantVelocityOptions{.max_position_fraction = std::numeric_limits<double>::quiet_NaN()}
+          .validate()
+          .has_value());
+  EXPECT_FALSE(
+      ConstantVelocityOptions{.max_position_fraction = std::numeric_limits<double>::infinity()}
+          .validate()
+          .has_value());
   EXPECT_EQ(ConstantVelocityOptions{.min_gate_unit = 0.0}.validate(),
             "min_gate_unit: value is 0; rule: must lie in (0, 1] (1: in units of σz² alone)");
   EXPECT_TRUE(ConstantVelocityOptions{.min_gate_unit = 1.5}.validate().has_value());

@@ -41,6 +41,12 @@
 /// fits, where they put it; the owner can refit it there (entry_point(), relinearize()), which
 /// makes the fit Gauss–Newton on the twin itself rather than on the first models.
 ///
+/// Wall (optional). The offset the fit may take can be bounded, per locator, by
+/// max_position_fraction of the box width (a stiff penalty beyond it, left out of the
+/// covariance): where the twin cannot explain the plant, an offset the quality hardly sees would
+/// otherwise explain it, and the estimate can run off without bound
+/// (ConstantVelocityOptions::max_position_fraction; none by default).
+///
 /// Local minima. A scalar quality is symmetric in the error r_k: a fit warm-started from the last
 /// estimate that explains the data badly is also started from its mirror image and from the
 /// prior mean, and the best of the three is kept.
@@ -385,18 +391,41 @@ class ConstantVelocityEstimator {
   double prior_cost(const StateVector& state) {
     work_.difference = state - work_.shifted_mean;
     work_.weighted_difference.noalias() = work_.prior_precision * work_.difference;
-    return work_.difference.dot(work_.weighted_difference);
+    return work_.difference.dot(work_.weighted_difference) + wall_cost(state, false);
   }
 
-  // work_.normal = JᵀJ + Λ, work_.gradient = Jᵀe − Λ(θ − μ) (J and e normalized by σ_k), factored;
-  // needs evaluate(·, true).
-  void assemble(const StateVector& state) {
+  // The wall at max_position_fraction · width: Σ (excess_i / σ_i)² over the locators whose
+  // offset a = state.head(d) lies beyond it, σ_i = wall_scale · width_i, so that an excess of
+  // wall_scale of the box costs what one σ of a residual does (a wall, not a preference).
+  // With `into_normal`, adds its gradient and Gauss–Newton curvature to work_.gradient and
+  // work_.normal (after assemble() has formed them).
+  double wall_cost(const StateVector& state, bool into_normal) {
+    double cost = 0.0;
+    if (!std::isfinite(options_.max_position_fraction)) return cost;
+    for (Index i = 0; i < dimension(); ++i) {
+      const double excess = std::abs(state(i)) - options_.max_position_fraction * width_(i);
+      if (excess <= 0.0) continue;
+      const double sigma = wall_scale * width_(i);
+      const double precision = 1.0 / (sigma * sigma);
+      cost += precision * excess * excess;
+      if (into_normal) {
+        work_.normal(i, i) += precision;
+        work_.gradient(i) -= precision * std::copysign(excess, state(i));
+      }
+    }
+    return cost;
+  }
+
+  // work_.normal = JᵀJ + Λ, work_.gradient = Jᵀe − Λ(θ − μ) (J and e normalized by σ_k), with
+  // the wall's terms where `with_wall`, factored; needs evaluate(·, true).
+  void assemble(const StateVector& state, bool with_wall = true) {
     const Index n = history_.size;
     work_.normal = work_.prior_precision;
     work_.normal.noalias() += work_.jacobian.topRows(n).transpose() * work_.jacobian.topRows(n);
     prior_cost(state);
     work_.gradient = -work_.weighted_difference;
     work_.gradient.noalias() += work_.jacobian.topRows(n).transpose() * work_.residuals.head(n);
+    if (with_wall) wall_cost(state, true);
     work_.factor.compute(work_.normal);
   }
 
@@ -492,7 +521,9 @@ class ConstantVelocityEstimator {
     const double dof = static_cast<double>(2 * d);
     estimate_.significant = (no_offset - fitted) / model_misfit_.scale() >
                             dof + options_.significance * std::sqrt(2.0 * dof);
-    assemble(estimate_.state);
+    // The covariance leaves the wall out: it says where the offset cannot be, not how well the
+    // data place it, and its curvature would pin a locator at the wall for good.
+    assemble(estimate_.state, false);
     estimate_.covariance = work_.factor.solve(work_.identity);
     symmetrize(estimate_.covariance);
     estimate_.position = estimate_.state.head(d);
@@ -690,6 +721,7 @@ class ConstantVelocityEstimator {
     double unfloored_ = 1.0;
   };
   static constexpr double chi2_median = 0.4549;  // of χ²(1)
+  static constexpr double wall_scale = 1e-4;     // wall_cost(): the wall's σ / box width
   MedianMisfit model_misfit_;                    // entries whose model errs: misfit_scale()
   MedianMisfit prediction_misfit_;               // every entry: prediction_scale()
   MedianMisfit innovation_misfit_;               // every entry, ν² / (σz² + τ²): gate_unit()

@@ -5,6 +5,7 @@
 /// serves every twin.
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -26,6 +27,16 @@ struct ConstantVelocityOptions {
   /// The largest prior standard deviation of the offset the estimator admits later, per locator,
   /// / box width (the velocity's uncertainty widens the offset's up to it; see cap_prior()).
   double position_fraction = 0.5;
+  /// Optionally, the largest offset the estimate takes, per locator, / box width: beyond it the
+  /// fit meets a wall (a penalty of one σz per 1e-4 of the box width beyond it, so the estimate
+  /// stays within it to about a hundredth of the box whatever the data say). Where the twin
+  /// cannot explain the plant, an offset the quality hardly sees can explain it, and the
+  /// estimate runs off: the door behind its contact plant ran 10 mm from δu* in a ±1 mm box (the
+  /// paper's divergence) in 9 and 3 of 10 runs. At 1 (a whole box width) none does, though every
+  /// run stays lost; but a user's plant that stiffens cubically ran further above the baseline
+  /// (cells beyond its spread 5 → 7 of 84), and the analytic family's estimates never reach 1
+  /// (docs/reproduction.md, "A wall for the estimate"). Infinity (the default): no wall.
+  double max_position_fraction = std::numeric_limits<double>::infinity();
   /// Prior standard deviation of the offset's velocity (per assembly), per locator, / box width.
   double velocity_fraction = 0.05;
   /// A change of velocity is declared when the root-mean-square normalized residual of the last
@@ -112,6 +123,8 @@ struct ConstantVelocityOptions {
   [[nodiscard]] std::optional<std::string> validate() const {
     return first_problem(
         {rule::positive_finite("position_fraction", position_fraction),
+         rule::check(max_position_fraction > 0.0, "max_position_fraction", max_position_fraction,
+                     "must be > 0 (infinity: no wall)"),
          rule::positive_finite("velocity_fraction", velocity_fraction),
          rule::positive_finite("initial_position_fraction", initial_position_fraction),
          rule::check(initial_position_fraction <= position_fraction, "initial_position_fraction",
