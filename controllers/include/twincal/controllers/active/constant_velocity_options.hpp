@@ -34,7 +34,7 @@ struct ConstantVelocityOptions {
   /// estimate runs off: the door behind its contact plant ran 10 mm from δu* in a ±1 mm box (the
   /// paper's divergence) in 9 and 3 of 10 runs. At 1 (a whole box width) none does, though every
   /// run stays lost; but a user's plant that stiffens cubically ran further above the baseline
-  /// (cells beyond its spread 5 → 7 of 84), and the analytic family's estimates never reach 1
+  /// (cells beyond its spread 5 → 7 of 84); where the plant is the twin no estimate reached 1
   /// (docs/reproduction.md, "A wall for the estimate"). Infinity (the default): no wall.
   double max_position_fraction = std::numeric_limits<double>::infinity();
   /// Prior standard deviation of the offset's velocity (per assembly), per locator, / box width.
