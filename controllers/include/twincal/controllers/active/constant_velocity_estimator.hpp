@@ -102,7 +102,7 @@ class ConstantVelocityEstimator {
     max_iterations,  ///< ConstantVelocityOptions::max_iterations steps, each descending
   };
   /// The last solve of a fit (Ceres' TinySolver::Summary): how it ended, its accepted steps,
-  /// and its cost (data + prior) and data cost Σ e_k²/σ_k² at the estimate.
+  /// and its cost (data + prior + the wall, if any) and data cost Σ e_k²/σ_k² at the estimate.
   struct SolveSummary {
     SolveStatus status = SolveStatus::none;
     int iterations = 0;
@@ -356,7 +356,7 @@ class ConstantVelocityEstimator {
     SolveSummary summary{.status = SolveStatus::max_iterations};
     out = start;
     summary.data_cost = evaluate(out, time, true);
-    summary.cost = summary.data_cost + prior_cost(out);
+    summary.cost = summary.data_cost + penalty_cost(out);
     for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
       assemble(out);
       work_.step = work_.factor.solve(work_.gradient);
@@ -366,7 +366,7 @@ class ConstantVelocityEstimator {
         if (halving > 0) scale *= 0.5;
         work_.trial = out + scale * work_.step;
         const double trial_data = evaluate(work_.trial, time, false);
-        const double trial_cost = trial_data + prior_cost(work_.trial);
+        const double trial_cost = trial_data + penalty_cost(work_.trial);
         if (trial_cost <= summary.cost) {
           improved = true;
           summary.data_cost = trial_data;
@@ -388,10 +388,15 @@ class ConstantVelocityEstimator {
     return summary;
   }
 
+  // What the fit adds to the data cost: the prior's, and the wall's where there is one.
+  double penalty_cost(const StateVector& state) {
+    return prior_cost(state) + wall_cost(state, false);
+  }
+
   double prior_cost(const StateVector& state) {
     work_.difference = state - work_.shifted_mean;
     work_.weighted_difference.noalias() = work_.prior_precision * work_.difference;
-    return work_.difference.dot(work_.weighted_difference) + wall_cost(state, false);
+    return work_.difference.dot(work_.weighted_difference);
   }
 
   // The wall at max_position_fraction · width: Σ (excess_i / σ_i)² over the locators whose
