@@ -16,8 +16,10 @@
 // (standard deviation over the runs) of no calibration; "beyond" marks a difference above it.
 //
 //   custom_nonlinearity [twin|plant] [runs] [dimension] [seed] [twin seed] [correction step]
+//                       [surprise step]
 //
-// The last argument is ActiveOptions::correction_step_fraction (0, the default: unbounded).
+// The last two are ActiveOptions::correction_step_fraction (0, the default: unbounded) and
+// surprise_step_fraction (its default, ¼, unless given).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -274,6 +276,7 @@ int main(int argc, char** argv) {
   if (argc > 4) settings.seed = std::strtoull(argv[4], nullptr, 10);
   if (argc > 5) settings.twin_seed = std::strtoull(argv[5], nullptr, 10);
   if (argc > 6) settings.active.correction_step_fraction = std::strtod(argv[6], nullptr);
+  if (argc > 7) settings.active.surprise_step_fraction = std::strtod(argv[7], nullptr);
   if (const std::optional<std::string> problem = settings.active.validate()) {
     fmt::print(stderr, "custom_nonlinearity: ActiveOptions: {}\n", *problem);
     return 2;
@@ -281,13 +284,14 @@ int main(int argc, char** argv) {
   if ((mode != "twin" && mode != "plant") || settings.runs < 1 || settings.dimension < 1) {
     fmt::print(stderr,
                "usage: custom_nonlinearity [twin|plant] [runs >= 1] [dimension >= 1] [seed] "
-               "[twin seed] [correction step fraction]\n");
+               "[twin seed] [correction step fraction] [surprise step fraction]\n");
     return 2;
   }
   fmt::print(
-      "{} mode, d = {}, {} runs of 100 assemblies, seed {}, twin seed {}, correction step {}\n",
+      "{} mode, d = {}, {} runs of 100 assemblies, seed {}, twin seed {}, correction step {}, "
+      "surprise step {}\n",
       mode, settings.dimension, settings.runs, settings.seed, settings.twin_seed,
-      settings.active.correction_step_fraction);
+      settings.active.correction_step_fraction, settings.active.surprise_step_fraction);
   fmt::print("{:<10} {:>9} {:>14} {:>17} {:>6} {:>11} {:>7}\n", "shape", "departure",
              "no calibration", "active", "lost", "difference", "spread");
   report<SoftStop>(settings);

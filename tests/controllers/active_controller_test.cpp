@@ -103,6 +103,14 @@ TYPED_TEST(ActiveControllerTest, ClipsControlsToTheTwinBoundsWhenTheEstimateIsLo
   EXPECT_LT((VectorX(uncorrected.propose(x)) - twin_frame).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The correction the controller's last proposal applied: u less clip(u0, box) (and its probe,
+// which these tests keep negligible).
+template <typename Controller>
+VectorX applied_correction(const Controller& controller, const VectorX& u, const VectorX& lower,
+                           const VectorX& upper) {
+  return u - controller.last_proposal().individual_control.cwiseMax(lower).cwiseMin(upper);
+}
+
 // With correction_step_fraction, the applied correction moves at most that fraction of the box
 // width per locator from one proposal to the next, here from 0 to an estimate given by restart()
 // (applied at once without the bound), and then reaches it. Probes are kept negligible so that
@@ -114,8 +122,7 @@ TYPED_TEST(ActiveControllerTest, MovesTheCorrectionAtMostItsStepPerAssembly) {
   const VectorX lower = twin.lower_bounds();
   const VectorX upper = twin.upper_bounds();
   const auto correction = [&](const auto& controller, const VectorX& u) {
-    return VectorX(u -
-                   controller.last_proposal().individual_control.cwiseMax(lower).cwiseMin(upper));
+    return applied_correction(controller, u, lower, upper);
   };
   const auto start = [&](TypeParam& controller) {
     controller.restart(offset,
@@ -144,6 +151,52 @@ TYPED_TEST(ActiveControllerTest, MovesTheCorrectionAtMostItsStepPerAssembly) {
   // 0.3 / 0.02 = 15 assemblies to reach the estimate, which stayed at the offset.
   EXPECT_LT((last - VectorX(bounded.offset_estimate())).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_LT((last - offset).cwiseAbs().maxCoeff(), 0.02);
+}
+
+// With surprise_step_fraction, a correction right after a surprise — a z beyond the innovation
+// gate that the refit does not explain either (here one answer of the plant from an offset
+// moved by 0.6 on every locator, among answers from the offset the controller was restarted at)
+// — moves at most that fraction of the box width per locator from the last one applied. Before
+// the surprise the controller corrects as one without the bound (the plant is the twin: nothing
+// surprises); after it, the unbounded one moves further than the bound allows.
+TYPED_TEST(ActiveControllerTest, BoundsTheCorrectionRightAfterASurprise) {
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
+  const CountingTwin counting(twin);
+  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  const auto run = [&](double fraction) {
+    TypeParam controller(
+        counting, RandomStream(12),
+        ActiveOptions{.max_probe_fraction = 1e-9, .surprise_step_fraction = fraction});
+    controller.restart(offset,
+                       SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+    std::vector<VectorX> corrections;
+    for (int t = 0; t < 14; ++t) {
+      const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+      const VectorX u = controller.propose(x);
+      corrections.push_back(
+          applied_correction(controller, u, twin.lower_bounds(), twin.upper_bounds()));
+      const VectorX plant_offset = t == 12 ? VectorX(offset.array() + 0.6) : offset;
+      controller.observe(x, u, twin.quality(x, VectorX(u - plant_offset)));
+      const ActiveStepReport& step = controller.last_step();
+      const bool surprise = step.normalized_innovation > 25.0 && step.normalized_residual > 1.0;
+      if (t <= 12) {
+        EXPECT_EQ(surprise, t == 12)
+            << "assembly " << t << ": nu^2/S " << step.normalized_innovation << ", residual "
+            << step.normalized_residual;
+      }
+    }
+    return corrections;
+  };
+  const double fraction = 0.001;
+  const VectorX step = fraction * (twin.upper_bounds() - twin.lower_bounds());  // 0.002
+  const std::vector<VectorX> unbounded = run(0.0);
+  const std::vector<VectorX> bounded = run(fraction);
+  for (std::size_t t = 0; t <= 12; ++t) EXPECT_EQ(bounded[t], unbounded[t]) << "assembly " << t;
+  // Up to the probes (at most 2e-9 per locator each).
+  EXPECT_TRUE(((bounded[13] - bounded[12]).cwiseAbs().array() <= step.array() + 1e-8).all())
+      << bounded[13].transpose() << " after " << bounded[12].transpose();
+  EXPECT_GT((unbounded[13] - unbounded[12]).cwiseAbs().maxCoeff(), 5.0 * step.maxCoeff());
 }
 
 TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {
@@ -381,7 +434,12 @@ TEST(ActiveController, FitsEachModelWhereTheAuditsArmPutsThePlant) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
   const std::vector<AssemblyId> assemblies = twin.assemblies();
-  const ActiveOptions options{.regret_probe = 0.0, .audit_period = 3, .fit_at_audited_arm = true};
+  // The correction unbounded after a surprise (this plant surprises), so that the centre below
+  // holds the whole estimate.
+  const ActiveOptions options{.surprise_step_fraction = 0.0,
+                              .regret_probe = 0.0,
+                              .audit_period = 3,
+                              .fit_at_audited_arm = true};
   ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6), options);
   const VectorX lower = twin.lower_bounds();
   const VectorX upper = twin.upper_bounds();
@@ -473,6 +531,8 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
             "max_offset_fraction: value is -0.1; rule: must lie in [0, 1]");
   EXPECT_EQ(ActiveOptions{.correction_step_fraction = -0.1}.validate(),
             "correction_step_fraction: value is -0.1; rule: must be finite and >= 0");
+  EXPECT_EQ(ActiveOptions{.surprise_step_fraction = -0.25}.validate(),
+            "surprise_step_fraction: value is -0.25; rule: must be finite and >= 0");
   EXPECT_EQ(ActiveOptions{.surrogate = {.tolerance = 0.0}}.validate(),
             "surrogate.tolerance: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),

@@ -23,7 +23,7 @@ struct OptionField {
   std::variant<double Options::*, Index Options::*, int Options::*, bool Options::*> member;
 };
 
-constexpr std::array<OptionField<ActiveOptions>, 23> active_fields{{
+constexpr std::array<OptionField<ActiveOptions>, 24> active_fields{{
     {"process_variance", &ActiveOptions::process_variance},
     {"min_process_variance", &ActiveOptions::min_process_variance},
     {"max_process_variance", &ActiveOptions::max_process_variance},
@@ -32,6 +32,7 @@ constexpr std::array<OptionField<ActiveOptions>, 23> active_fields{{
     {"max_probe_fraction", &ActiveOptions::max_probe_fraction},
     {"max_offset_fraction", &ActiveOptions::max_offset_fraction},
     {"correction_step_fraction", &ActiveOptions::correction_step_fraction},
+    {"surprise_step_fraction", &ActiveOptions::surprise_step_fraction},
     {"innovation_gate", &ActiveOptions::innovation_gate},
     {"covariance_floor", &ActiveOptions::covariance_floor},
     {"covariance_ceiling_fraction", &ActiveOptions::covariance_ceiling_fraction},

@@ -23,6 +23,7 @@ ActiveStepReport filled_report() {
           .horizon = 37.0,
           .process_variance = 2e-6,
           .normalized_innovation = std::numeric_limits<double>::infinity(),
+          .normalized_residual = 0.375,
           .gated = true,
           .velocity_change = true,
           .change_ratio = 1.75,
@@ -42,7 +43,7 @@ void expect_same(const ActiveStepReport& read, const ActiveStepReport& written) 
 TEST(ActiveStepReport, ReadsBackEveryFieldThroughJsonText) {
   const ActiveStepReport written = filled_report();
   const nlohmann::json json = nlohmann::json::parse(active_step_report_to_json(written).dump());
-  EXPECT_EQ(json.size(), 17U) << "one key per field";
+  EXPECT_EQ(json.size(), 18U) << "one key per field";
   EXPECT_EQ(json["normalized_innovation"], "inf");
   expect_same(read_active_step_report(json), written);
 }
@@ -54,6 +55,7 @@ TEST(ActiveStepReport, KeepsTheReadingsOfAnEstimatorThatDidNotRunAsNull) {
   EXPECT_TRUE(json["change_ratio"].is_null());
   EXPECT_TRUE(json["misfit_scale"].is_null());
   EXPECT_TRUE(json["prediction_scale"].is_null());
+  EXPECT_TRUE(json["normalized_residual"].is_null());
   expect_same(read_active_step_report(json), written);
 }
 

@@ -193,27 +193,61 @@ TEST(ConstantVelocityEstimator, AnOffsetBelowTheNoiseIsNotSignificant) {
 // An assembly whose model errs (variance σz² + τ²) weighs less: the same error of its quality
 // (2σz, below the change-of-velocity gate) moves the estimate less with τ = 5σz than with
 // τ = 0, measured against the estimate from its correct quality.
-TEST(ConstantVelocityEstimator, AnAssemblyWithAModelErrorWeighsLess) {
-  const Eigen::Vector3d offset(0.2, -0.1, 0.05);
-  const auto estimate = [&](double quality_error, double model_variance) {
-    DriftScenario scenario;
-    ConstantVelocityEstimator<3> estimator = make_estimator();
+// Twelve exact assemblies of a fixed offset, then a thirteenth whose z is off by quality_error
+// under a model of error variance model_variance, fitted at 13.
+struct OneErringAssembly {
+  DriftScenario scenario;
+  ConstantVelocityEstimator<3> estimator = make_estimator();
+  Eigen::Vector3d control;  // where the thirteenth was measured
+  double z = 0.0;
+
+  OneErringAssembly(const Eigen::Vector3d& offset, double quality_error, double model_variance) {
     estimator.reset(0, Eigen::Vector3d::Zero());
     for (Index t = 0; t < 12; ++t) {
       const Eigen::Vector3d u = scenario.next(t, estimator.position());
       estimator.add(t, scenario.model, u, scenario.plant(u, offset));
       estimator.fit(t + 1);
     }
-    const Eigen::Vector3d u = scenario.next(12, estimator.position());
-    estimator.add(12, scenario.model, u, scenario.plant(u, offset) + quality_error, model_variance);
+    control = scenario.next(12, estimator.position());
+    z = scenario.plant(control, offset) + quality_error;
+    estimator.add(12, scenario.model, control, z, model_variance);
     estimator.fit(13);
-    EXPECT_EQ(estimator.changes(), 0);
-    return Eigen::Vector3d(estimator.position());
+  }
+};
+
+TEST(ConstantVelocityEstimator, AnAssemblyWithAModelErrorWeighsLess) {
+  const Eigen::Vector3d offset(0.2, -0.1, 0.05);
+  const auto estimate = [&](double quality_error, double model_variance) {
+    const OneErringAssembly run(offset, quality_error, model_variance);
+    EXPECT_EQ(run.estimator.changes(), 0);
+    return Eigen::Vector3d(run.estimator.position());
   };
   const double exact = (estimate(0.02, 0.0) - estimate(0.0, 0.0)).norm();
   const double erring = (estimate(0.02, 25e-4) - estimate(0.0, 25e-4)).norm();
   EXPECT_GT(exact, 1e-3);
   EXPECT_LT(erring, 0.5 * exact);
+}
+
+// An entry's normalized residual is its z against its model at the offset the last fit gives its
+// time, over σz² + τ²: far below 1 for exact data (what remains is the prior's pull); for one z
+// off by 0.05 (5 σz) among exact ones, the fit does not absorb it and the residual stays above
+// 1; weighed by a τ² of 25e-4, the same error is within one standard deviation.
+TEST(ConstantVelocityEstimator, ItsNormalizedResidualIsTheEntrysMisfitUnderTheFit) {
+  const Eigen::Vector3d offset(0.2, -0.1, 0.05);
+  const auto last_residual = [&](double quality_error, double model_variance) {
+    const OneErringAssembly run(offset, quality_error, model_variance);
+    const ConstantVelocityEstimator<3>& estimator = run.estimator;
+    // By hand: the offset at t = 12 is the fit's position at 13 less one velocity.
+    const Eigen::Vector3d then = estimator.position() - estimator.state().tail(3);
+    const double residual = run.z - run.scenario.plant(run.control, then);
+    const double expected = residual * residual / (1e-4 + model_variance);
+    const double reported = estimator.normalized_residual(estimator.history_size() - 1);
+    EXPECT_NEAR(reported, expected, 1e-9 * (1.0 + expected));
+    return reported;
+  };
+  EXPECT_LT(last_residual(0.0, 0.0), 1e-2);
+  EXPECT_GT(last_residual(0.05, 0.0), 1.0);
+  EXPECT_LT(last_residual(0.05, 25e-4), 1.0);
 }
 
 // Relinearization's bookkeeping: an entry's model replaced by the same quadratic centred where

@@ -17,8 +17,10 @@
 ///      without a model that passed its check) and u_t = clip(u0 + p) + clamp(δû): the twin's
 ///      locator bounds hold in the twin's frame (u_t − δû), and the correction is at most
 ///      ActiveOptions::max_offset_fraction of the box width, so a twin optimum at its bound can
-///      be corrected and a lost estimate cannot drive the fixture far outside its range (and,
-///      with ActiveOptions::correction_step_fraction, moves at most that far per assembly);
+///      be corrected and a lost estimate cannot drive the fixture far outside its range; right
+///      after a surprise (a z the estimate neither predicted nor explains once refitted) it
+///      moves at most ActiveOptions::surprise_step_fraction of the box from the last one applied
+///      (always, with correction_step_fraction);
 ///   5. observe: z_t joins the estimator's history (or updates the random-walk filter, with an
 ///      innovation gate that inflates an overconfident P, process noise adapted to the
 ///      normalized innovations, and a floor and a ceiling on P's eigenvalues).
@@ -132,6 +134,7 @@ class ActiveCalibrationController {
     max_probe_ = options_.max_probe_fraction * width;
     max_offset_ = options_.max_offset_fraction * width;
     max_correction_step_ = options_.correction_step_fraction * width;
+    max_surprise_step_ = options_.surprise_step_fraction * width;
     applied_correction_.setZero(d);
     correction_.resize(d);
     check_margin_ = options_.surrogate.step_fraction * width;
@@ -178,6 +181,9 @@ class ActiveCalibrationController {
     // Where the last assembly's model erred, so will this one's: its probe is priced by the
     // plant's regret and designed before the model, which is then fitted where it puts the plant.
     const bool last_model_erred = step_.model_variance > 0.0;
+    surprised_ =
+        step_.normalized_innovation > options_.innovation_gate * options_.innovation_gate &&
+        step_.normalized_residual > 1.0;
     const bool price_by_regret = options_.regret_probe > 0.0 && last_model_erred;
     step_ = ActiveStepReport{};
     report_.individual_control = u0.control;
@@ -499,15 +505,18 @@ class ActiveCalibrationController {
 
  private:
   // The correction to apply for the estimate δû, into correction_: clamp(δû, ±max_offset_), then
-  // (correction_step_fraction > 0) moved at most max_correction_step_ per locator from the last
-  // applied correction.
+  // moved at most max_correction_step_ (correction_step_fraction > 0) and, after a surprise,
+  // max_surprise_step_ (surprise_step_fraction > 0) per locator from the last applied one.
   void bound_correction(const ControlVector& estimate) {
     correction_ = estimate.cwiseMax(-max_offset_).cwiseMin(max_offset_);
-    if (options_.correction_step_fraction > 0.0) {
-      correction_ = applied_correction_ + (correction_ - applied_correction_)
-                                              .cwiseMax(-max_correction_step_)
-                                              .cwiseMin(max_correction_step_);
-    }
+    if (options_.correction_step_fraction > 0.0) bound_step(max_correction_step_);
+    if (surprised_ && options_.surprise_step_fraction > 0.0) bound_step(max_surprise_step_);
+  }
+
+  // correction_ moved at most `step` per locator from the last applied correction.
+  void bound_step(const ControlVector& step) {
+    correction_ =
+        applied_correction_ + (correction_ - applied_correction_).cwiseMax(-step).cwiseMin(step);
   }
 
   // The probe of the Probe policy, priced by model_. T = tr(HP)/tr(HQ) (for designs that price
@@ -683,6 +692,7 @@ class ActiveCalibrationController {
       }
     }
     step_.velocity_change = estimator_.changes() > changes_before;
+    step_.normalized_residual = estimator_.normalized_residual(estimator_.history_size() - 1);
     step_.misfit_scale = estimator_.misfit_scale();
     step_.prediction_scale = estimator_.prediction_scale();
     step_.history = estimator_.history_size();
@@ -856,6 +866,7 @@ class ActiveCalibrationController {
   double process_variance_ = 0.0;
   ControlVector max_offset_;
   ControlVector max_correction_step_;
+  ControlVector max_surprise_step_;
   ControlVector applied_correction_;  // the correction of the last corrected proposal
   ControlVector correction_;          // bound_correction()'s
   ControlVector check_margin_;
@@ -898,6 +909,9 @@ class ActiveCalibrationController {
   Index assemblies_ = 0;
   Index time_ = 0;  // the assembly of the pending proposal
   bool restarted_ = false;
+  // The last assembly surprised (ActiveOptions::surprise_step_fraction): set by propose from the
+  // step report, which snapshots carry.
+  bool surprised_ = false;
   std::optional<bool> audited_arm_;  // fit_at_audited_arm: the arm picked before the fit
   Index retry_at_ = 0;
   ProposalReport report_;

@@ -63,6 +63,19 @@ struct ActiveOptions {
   /// eight seed pairs (a correction that lags a right estimate costs much where the quality is
   /// this steep), hence off.
   double correction_step_fraction = 0.0;
+  /// The same bound right after a surprise only: where the last assembly's z lay beyond
+  /// innovation_gate before the fit (ν²/S > gate²: the estimate did not predict it) and the
+  /// fit that took it in still does not explain it ((z − m)² > σz² + τ², m its model at the new
+  /// estimate), the next correction moves at most this fraction of the box width per locator
+  /// from the last one applied (0: no bound). A runaway — a plant that is not the twin answers a
+  /// correction that misses with a z the twin cannot explain, and the fit with a larger
+  /// correction — is a chain of such surprises. A turn of the drift or a restart of the
+  /// estimator on a plant that is the twin surprises too, but the refit explains it, so a right
+  /// estimate is followed at once (the always-on bound above lags it, which is what it costs
+  /// there). ¼ of the box is the largest probe (max_probe_fraction): a surprised correction
+  /// moves no further than the controller explores anyway. Measured on 2026-11-29
+  /// (docs/reproduction.md, "A bound on the correction after a surprise").
+  double surprise_step_fraction = 0.25;
   /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
   /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;
@@ -199,6 +212,7 @@ struct ActiveOptions {
          rule::in_left_open("max_probe_fraction", max_probe_fraction, 0.0, 1.0),
          rule::in_closed("max_offset_fraction", max_offset_fraction, 0.0, 1.0),
          rule::non_negative_finite("correction_step_fraction", correction_step_fraction),
+         rule::non_negative_finite("surprise_step_fraction", surprise_step_fraction),
          rule::positive_finite("innovation_gate", innovation_gate),
          rule::positive_finite("covariance_floor", covariance_floor),
          rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),

@@ -25,7 +25,10 @@ struct ActiveStepReport {
   double horizon = 0.0;                ///< T of the probe design
   double process_variance = 0.0;       ///< q of the random-walk filter (sigma-point mode)
   double normalized_innovation = 0.0;  ///< ν²/S of z against its prediction (after observe)
-  bool gated = false;                  ///< the sigma-point update inflated P at the gate
+  /// (z − m)²/(σz² + τ²): z against its model at the offset of the fit that took it in (after
+  /// observe). NaN in sigma-point mode.
+  double normalized_residual = std::numeric_limits<double>::quiet_NaN();
+  bool gated = false;  ///< the sigma-point update inflated P at the gate
   /// The estimator declared a change of velocity in one of this assembly's fits (a refit after
   /// relinearization fits again).
   bool velocity_change = false;
@@ -57,6 +60,7 @@ struct ActiveStepReport {
           {"horizon", number_to_json(step.horizon)},
           {"process_variance", number_to_json(step.process_variance)},
           {"normalized_innovation", number_to_json(step.normalized_innovation)},
+          {"normalized_residual", number_to_json(step.normalized_residual)},
           {"gated", step.gated},
           {"velocity_change", step.velocity_change},
           {"change_ratio", number_to_json(step.change_ratio)},
@@ -83,6 +87,7 @@ struct ActiveStepReport {
   step.horizon = read_double_field(saved, "horizon", Values::any);
   step.process_variance = read_double_field(saved, "process_variance", Values::any);
   step.normalized_innovation = read_double_field(saved, "normalized_innovation", Values::any);
+  step.normalized_residual = read_double_field(saved, "normalized_residual", Values::any);
   step.gated = read_bool(saved, "gated");
   step.velocity_change = read_bool(saved, "velocity_change");
   step.change_ratio = read_double_field(saved, "change_ratio", Values::any);

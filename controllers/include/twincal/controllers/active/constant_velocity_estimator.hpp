@@ -228,6 +228,10 @@ class ConstantVelocityEstimator {
     return history_.hessians.middleCols(slot(i) * d, d);
   }
 
+  /// Entry i's squared residual under the last fit over its variance, (z_i − m_i)² / (σz² + τ_i²),
+  /// m_i its model at the offset the fit gives its time, as the fit weighs it.
+  [[nodiscard]] double normalized_residual(Index i) const;
+
   /// Replaces entry i's model by `model` (refitted for the same assembly, e.g. at entry_point):
   /// the measurement stays; its residual variance becomes σz² + model_variance. The estimate
   /// changes at the next fit().
@@ -935,6 +939,27 @@ void ConstantVelocityEstimator<N>::test_change() {
   last_solve_ = restart_from(estimate_.state, time);
   estimate_.state = work_.best;
   finish(time);
+}
+
+template <int N>
+double ConstantVelocityEstimator<N>::normalized_residual(Index i) const {
+  // residual_at's arithmetic, without its Jacobian workspaces (this is const).
+  const Index d = dimension();
+  const Index s = slot(i);
+  const double tau =
+      static_cast<double>(history_.times[static_cast<std::size_t>(s)] - estimate_.time);
+  const auto error = [&](Index j) {
+    return history_.controls(j, s) - estimate_.state(j) - tau * estimate_.state(d + j);
+  };
+  double squared = history_.values(s);
+  for (Index j = 0; j < d; ++j) {
+    double curvature = 0.0;
+    for (Index k = 0; k < d; ++k) curvature += history_.hessians(k, s * d + j) * error(k);
+    squared += error(j) * (2.0 * history_.half_gradients(j, s) + curvature);
+  }
+  const double floor = 1e-12 * (1.0 + std::abs(history_.values(s)));
+  const double residual = history_.qualities(s) - std::sqrt(std::max(squared, floor));
+  return residual * residual * history_.weights(s);
 }
 
 template <int N>
