@@ -158,18 +158,23 @@ TYPED_TEST(ActiveControllerTest, MovesTheCorrectionAtMostItsStepPerAssembly) {
 // moved by 0.6 on every locator, among answers from the offset the controller was restarted at)
 // — moves at most that fraction of the box width per locator from the last one applied. Before
 // the surprise the controller corrects as one without the bound (the plant is the twin: nothing
-// surprises); after it, the unbounded one moves further than the bound allows.
+// surprises); after it, the unbounded one moves further than the bound allows, and an estimate
+// given by restart() is applied at once.
 TYPED_TEST(ActiveControllerTest, BoundsTheCorrectionRightAfterASurprise) {
   const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
   const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  const VectorX moved = Eigen::Vector3d(0.2, -0.15, 0.1);  // an estimate given after it
   const std::vector<AssemblyId> assemblies = twin.assemblies();
-  const auto run = [&](double fraction) {
+  const auto run = [&](double fraction, bool restart_after_surprise = false) {
     TypeParam controller(
         counting, RandomStream(12),
         ActiveOptions{.max_probe_fraction = 1e-9, .surprise_step_fraction = fraction});
-    controller.restart(offset,
-                       SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+    const auto start = [&](const VectorX& estimate) {
+      controller.restart(estimate,
+                         SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+    };
+    start(offset);
     std::vector<VectorX> corrections;
     for (int t = 0; t < 14; ++t) {
       const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
@@ -185,6 +190,7 @@ TYPED_TEST(ActiveControllerTest, BoundsTheCorrectionRightAfterASurprise) {
             << "assembly " << t << ": nu^2/S " << step.normalized_innovation << ", residual "
             << step.normalized_residual;
       }
+      if (t == 12 && restart_after_surprise) start(moved);
     }
     return corrections;
   };
@@ -197,6 +203,9 @@ TYPED_TEST(ActiveControllerTest, BoundsTheCorrectionRightAfterASurprise) {
   EXPECT_TRUE(((bounded[13] - bounded[12]).cwiseAbs().array() <= step.array() + 1e-8).all())
       << bounded[13].transpose() << " after " << bounded[12].transpose();
   EXPECT_GT((unbounded[13] - unbounded[12]).cwiseAbs().maxCoeff(), 5.0 * step.maxCoeff());
+  // An estimate given by restart() after the surprise is applied at once.
+  const std::vector<VectorX> restarted = run(fraction, true);
+  EXPECT_LT((restarted[13] - moved).cwiseAbs().maxCoeff(), 1e-8) << restarted[13].transpose();
 }
 
 TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {

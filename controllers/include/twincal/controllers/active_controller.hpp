@@ -181,9 +181,6 @@ class ActiveCalibrationController {
     // Where the last assembly's model erred, so will this one's: its probe is priced by the
     // plant's regret and designed before the model, which is then fitted where it puts the plant.
     const bool last_model_erred = step_.model_variance > 0.0;
-    surprised_ =
-        step_.normalized_innovation > options_.innovation_gate * options_.innovation_gate &&
-        step_.normalized_residual > 1.0;
     const bool price_by_regret = options_.regret_probe > 0.0 && last_model_erred;
     step_ = ActiveStepReport{};
     report_.individual_control = u0.control;
@@ -306,9 +303,9 @@ class ActiveCalibrationController {
   /// Restarts the estimate at N(estimate, covariance) — a re-initialization from outside (a
   /// measurement of the fixture, a least-squares fit over a history) — keeping q and the model;
   /// the estimator forgets its history, and the estimate is applied from the next proposal on
-  /// (it does not wait for the history to show the offset significantly; with
-  /// ActiveOptions::correction_step_fraction the correction moves towards it from the one last
-  /// applied, at that step per assembly).
+  /// (it does not wait for the history to show the offset significantly, nor is it bounded by a
+  /// surprise of the estimate it replaces; with ActiveOptions::correction_step_fraction the
+  /// correction moves towards it from the one last applied, at that step per assembly).
   /// @throws DimensionMismatchError, NonFiniteError, NotPositiveDefiniteError, with the state
   ///         unchanged.
   void restart(const ControlVector& estimate, const CovarianceMatrix& covariance) {
@@ -319,7 +316,8 @@ class ActiveCalibrationController {
     require_symmetric("covariance", covariance);
     require_positive_definite("covariance", covariance);
     estimator_.reset(assemblies_, estimate, covariance);
-    restarted_ = true;  // an estimate given from outside is applied without waiting for evidence
+    restarted_ = true;   // an estimate given from outside is applied without waiting for evidence
+    surprised_ = false;  // nor bounded by what surprised the estimate it replaces
     mean_ = estimate;
     covariance_ = covariance;
     pending_ = false;
@@ -342,7 +340,8 @@ class ActiveCalibrationController {
   /// estimator (its history, snapshots, prior and misfit medians), the surrogate's kept H and
   /// its age, the probe's stream; the counters (assemblies, the pending proposal's time, the
   /// retry of the quadratic model); the pending proposal (u_t, whether its model held, the
-  /// model, which observe updates with) and the correction last applied; the do-no-harm rings
+  /// model, which observe updates with), the correction last applied and whether the last
+  /// assembly surprised (ActiveOptions::surprise_step_fraction); the do-no-harm rings
   /// (normalized innovations, the audit's regrets and counts); the plant's last regrets, which
   /// price the probe; the assemblies kept for relinearization, with their checks (ε, for the τ² of
   /// their refits); and the last proposal's reports. Not the workspaces (sigma points, check
@@ -360,6 +359,7 @@ class ActiveCalibrationController {
                          {"time", time_},
                          {"retry_at", retry_at_},
                          {"restarted", restarted_},
+                         {"surprised", surprised_},
                          {"quadratic", quadratic_},
                          {"pending", pending_},
                          {"control", doubles_to_json(control_)},
@@ -408,6 +408,7 @@ class ActiveCalibrationController {
     const Index time = read_integer_field(saved, "time", 0);
     const Index retry_at = read_integer_field(saved, "retry_at", 0);
     const bool restarted = read_bool(saved, "restarted");
+    const bool surprised = read_bool(saved, "surprised");
     const bool quadratic = read_bool(saved, "quadratic");
     const bool pending = read_bool(saved, "pending");
     ControlVector control(d);
@@ -484,6 +485,7 @@ class ActiveCalibrationController {
     time_ = time;
     retry_at_ = retry_at;
     restarted_ = restarted;
+    surprised_ = surprised;
     quadratic_ = quadratic;
     pending_ = pending;
     control_ = control;
@@ -693,6 +695,9 @@ class ActiveCalibrationController {
     }
     step_.velocity_change = estimator_.changes() > changes_before;
     step_.normalized_residual = estimator_.normalized_residual(estimator_.history_size() - 1);
+    surprised_ =
+        step_.normalized_innovation > options_.innovation_gate * options_.innovation_gate &&
+        step_.normalized_residual > 1.0;
     step_.misfit_scale = estimator_.misfit_scale();
     step_.prediction_scale = estimator_.prediction_scale();
     step_.history = estimator_.history_size();
@@ -809,6 +814,7 @@ class ActiveCalibrationController {
     }
     gain_ = sigma_preview_.gain;
     commit(innovation, variance, nis);
+    surprised_ = false;  // a random-walk update is no fit that could explain z
   }
 
   // The sigma points of N(δû, (scale L)(scale L)ᵀ) through the twin at `control`.
@@ -909,8 +915,9 @@ class ActiveCalibrationController {
   Index assemblies_ = 0;
   Index time_ = 0;  // the assembly of the pending proposal
   bool restarted_ = false;
-  // The last assembly surprised (ActiveOptions::surprise_step_fraction): set by propose from the
-  // step report, which snapshots carry.
+  // The last assembly surprised (ActiveOptions::surprise_step_fraction): its z beyond the gate
+  // before the fit and not explained by it. Set by the estimator's update, cleared by the
+  // sigma-point update and by restart().
   bool surprised_ = false;
   std::optional<bool> audited_arm_;  // fit_at_audited_arm: the arm picked before the fit
   Index retry_at_ = 0;
