@@ -235,8 +235,8 @@ TEST(ConstantVelocityEstimator, AnAssemblyWithAModelErrorWeighsLess) {
 TEST(ConstantVelocityEstimator, ItsNormalizedResidualIsTheEntrysMisfitUnderTheFit) {
   const Eigen::Vector3d offset(0.2, -0.1, 0.05);
   const auto last_residual = [&](double quality_error, double model_variance) {
-    const OneErringAssembly run(offset, quality_error, model_variance);
-    const ConstantVelocityEstimator<3>& estimator = run.estimator;
+    OneErringAssembly run(offset, quality_error, model_variance);
+    ConstantVelocityEstimator<3>& estimator = run.estimator;
     // By hand: the offset at t = 12 is the fit's position at 13 less one velocity.
     const Eigen::Vector3d then = estimator.position() - estimator.state().tail(3);
     const double residual = run.z - run.scenario.plant(run.control, then);

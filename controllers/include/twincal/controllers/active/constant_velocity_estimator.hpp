@@ -229,8 +229,9 @@ class ConstantVelocityEstimator {
   }
 
   /// Entry i's squared residual under the last fit over its variance, (z_i − m_i)² / (σz² + τ_i²),
-  /// m_i its model at the offset the fit gives its time, as the fit weighs it.
-  [[nodiscard]] double normalized_residual(Index i) const;
+  /// m_i its model at the offset the fit gives its time, as the fit weighs it. (Not const: it
+  /// is the fit's own residual, computed in the fit's workspaces.)
+  [[nodiscard]] double normalized_residual(Index i);
 
   /// Replaces entry i's model by `model` (refitted for the same assembly, e.g. at entry_point):
   /// the measurement stays; its residual variance becomes σz² + model_variance. The estimate
@@ -942,24 +943,9 @@ void ConstantVelocityEstimator<N>::test_change() {
 }
 
 template <int N>
-double ConstantVelocityEstimator<N>::normalized_residual(Index i) const {
-  // residual_at's arithmetic, without its Jacobian workspaces (this is const).
-  const Index d = dimension();
-  const Index s = slot(i);
-  const double tau =
-      static_cast<double>(history_.times[static_cast<std::size_t>(s)] - estimate_.time);
-  const auto error = [&](Index j) {
-    return history_.controls(j, s) - estimate_.state(j) - tau * estimate_.state(d + j);
-  };
-  double squared = history_.values(s);
-  for (Index j = 0; j < d; ++j) {
-    double curvature = 0.0;
-    for (Index k = 0; k < d; ++k) curvature += history_.hessians(k, s * d + j) * error(k);
-    squared += error(j) * (2.0 * history_.half_gradients(j, s) + curvature);
-  }
-  const double floor = 1e-12 * (1.0 + std::abs(history_.values(s)));
-  const double residual = history_.qualities(s) - std::sqrt(std::max(squared, floor));
-  return residual * residual * history_.weights(s);
+double ConstantVelocityEstimator<N>::normalized_residual(Index i) {
+  const double residual = residual_at(i, estimate_.state, estimate_.time);
+  return residual * residual * history_.weights(slot(i));
 }
 
 template <int N>
