@@ -1,8 +1,12 @@
-// Your own black box: six DeviationNonlinearity policies written here, outside the library, as a
-// user would write the shape of their own twin (models/deviation_nonlinearity.hpp) — soft stops,
-// a dead band, cubic stiffening of every key point, waviness, saturation, one-sided stiffening —
-// and the active controller run on them with its default settings. These shapes were kept out of
-// the project while the controller was designed (the last two were written after it);
+// Your own black box: DeviationNonlinearity policies written here, outside the library, as a
+// user would write the shape of their own twin (models/deviation_nonlinearity.hpp), and the active
+// controller run on them with its default settings. Two sets:
+//   first  soft stops, a dead band, cubic stiffening of every key point, waviness, saturation,
+//          one-sided stiffening: kept out of the project while the controller was designed (the
+//          last two were written after the controller of commit ce44677);
+//   later  neighbouring key points that couple, one-sided gaps (hinges), exponential stiffening
+//          in the locators, snap-through (Q jumps): written on 2026-11-29 after the controller of
+//          commit 3b80229 and first run on it.
 // docs/reproduction.md ("Black-box twins") reports what this program prints.
 //
 // Two modes, the paper's protocol (100 assemblies, the bouncing drift of eq. (15) on every
@@ -16,10 +20,11 @@
 // (standard deviation over the runs) of no calibration; "beyond" marks a difference above it.
 //
 //   custom_nonlinearity [twin|plant] [runs] [dimension] [seed] [twin seed] [correction step]
-//                       [surprise step]
+//                       [surprise step] [strength] [first|later|all]
 //
-// The last two are ActiveOptions::correction_step_fraction (0, the default: unbounded) and
-// surprise_step_fraction (its default, ¼, unless given).
+// The correction and surprise steps are ActiveOptions::correction_step_fraction (0, the default:
+// unbounded) and surprise_step_fraction (its default, ¼, unless given); the strength s scales
+// every shape (1 unless given); the set is `first` unless given.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -175,9 +180,111 @@ class OneSided {
   double strength_;
 };
 
+// Neighbouring key points couple (the stiffness of the sheet between them): each moves further by
+// a product of its own move and the next one's. (This shape and the three after it were written
+// on 2026-11-29, after the controller of commit 3b80229.)
+class Coupled {
+ public:
+  Coupled(Index /*key_points*/, Index dimension, double strength, const RandomStream& /*stream*/)
+      : scale_(0.4 * std::sqrt(static_cast<double>(dimension))), strength_(strength) {}
+  static constexpr std::string_view name() { return "coupled"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    const Index m = r.size();
+    for (Index i = 0; i < m; ++i) {
+      r(i) += strength_ * 0.3 * scale_ * (moved(i) / scale_) * (moved((i + 1) % m) / scale_);
+    }
+  }
+
+ private:
+  double scale_;
+  double strength_;
+};
+
+// A gap on one side of each key point (side and width drawn): once it closes, the point is held
+// back 80 %, and on the other side it moves freely — a hinge rather than a symmetric stop.
+class Hinge {
+ public:
+  Hinge(Index key_points, Index dimension, double strength, const RandomStream& stream)
+      : gap_(key_points), side_(key_points), strength_(strength) {
+    RandomStream draws = stream.substream("hinge");
+    for (Index i = 0; i < key_points; ++i) {
+      gap_(i) = 0.25 * std::sqrt(static_cast<double>(dimension)) * draws.uniform();
+      side_(i) = draws.uniform() < 0.5 ? -1.0 : 1.0;
+    }
+  }
+  static constexpr std::string_view name() { return "hinge"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      const double beyond = side_(i) * moved(i) - gap_(i);
+      if (beyond > 0.0) r(i) -= strength_ * 0.8 * side_(i) * beyond;
+    }
+  }
+
+ private:
+  VectorX gap_;
+  VectorX side_;
+  double strength_;
+};
+
+// The locators themselves stiffen exponentially on one side (their error e from the affine
+// optimum, not the key points' moves), mixed into the key points by drawn weights.
+class Exponential {
+ public:
+  Exponential(Index key_points, Index dimension, double strength, const RandomStream& stream)
+      : weights_(key_points, dimension), strength_(strength) {
+    RandomStream draws = stream.substream("exponential");
+    const double norm = 1.0 / std::sqrt(static_cast<double>(dimension));
+    for (Index i = 0; i < key_points; ++i) {
+      for (Index j = 0; j < dimension; ++j) weights_(i, j) = norm * (2.0 * draws.uniform() - 1.0);
+    }
+  }
+  static constexpr std::string_view name() { return "exponential"; }
+  void apply(const Constant&, const Constant& error, const Constant&, Deviations r) const {
+    for (Index j = 0; j < error.size(); ++j) {
+      const double e = error(j) / scale_;
+      r += (strength_ * 0.3 * scale_ * (std::exp(e) - 1.0 - e)) * weights_.col(j);
+    }
+  }
+
+ private:
+  static constexpr double scale_ = 0.25;  // mm: a quarter of the default box's half-width
+  MatrixX weights_;
+  double strength_;
+};
+
+// Snap-through: beyond a threshold (per key point, drawn) a key point jumps by a fixed amount, so
+// Q itself is discontinuous — no local model holds across the jump.
+class Snap {
+ public:
+  Snap(Index key_points, Index dimension, double strength, const RandomStream& stream)
+      : threshold_(key_points),
+        jump_(0.1 * std::sqrt(static_cast<double>(dimension))),
+        strength_(strength) {
+    RandomStream draws = stream.substream("snap");
+    for (Index i = 0; i < key_points; ++i) {
+      threshold_(i) = 0.4 * std::sqrt(static_cast<double>(dimension)) * (0.2 + draws.uniform());
+    }
+  }
+  static constexpr std::string_view name() { return "snap"; }
+  void apply(const Constant&, const Constant&, const Constant& moved, Deviations r) const {
+    for (Index i = 0; i < r.size(); ++i) {
+      if (std::abs(moved(i)) > threshold_(i)) {
+        r(i) += strength_ * jump_ * std::copysign(1.0, moved(i));
+      }
+    }
+  }
+
+ private:
+  VectorX threshold_;
+  double jump_;
+  double strength_;
+};
+
 static_assert(DeviationNonlinearity<SoftStop> && DeviationNonlinearity<DeadBand> &&
               DeviationNonlinearity<Cubic> && DeviationNonlinearity<Waviness> &&
-              DeviationNonlinearity<Saturation> && DeviationNonlinearity<OneSided>);
+              DeviationNonlinearity<Saturation> && DeviationNonlinearity<OneSided> &&
+              DeviationNonlinearity<Coupled> && DeviationNonlinearity<Hinge> &&
+              DeviationNonlinearity<Exponential> && DeviationNonlinearity<Snap>);
 
 struct Settings {
   bool plant_mode = false;
@@ -186,6 +293,8 @@ struct Settings {
   std::uint64_t seed = 7;
   std::uint64_t twin_seed = 11;
   ActiveOptions active{};  // the defaults; correction_step_fraction from the command line
+  double strength = 1.0;   // s of every shape
+  std::string set = "first";
 };
 
 struct Outcome {
@@ -221,6 +330,7 @@ template <typename Shape>
 void report(const Settings& settings) {
   KeyPointTwinOptions options;
   options.assemblies.dimension = settings.dimension;
+  options.strength = settings.strength;
   const RandomStream twin_stream(settings.twin_seed);
   KeyPointTwin<Shape> shaped(options, twin_stream);
   const std::vector<AssemblyId> assemblies = shaped.assemblies();
@@ -277,28 +387,43 @@ int main(int argc, char** argv) {
   if (argc > 5) settings.twin_seed = std::strtoull(argv[5], nullptr, 10);
   if (argc > 6) settings.active.correction_step_fraction = std::strtod(argv[6], nullptr);
   if (argc > 7) settings.active.surprise_step_fraction = std::strtod(argv[7], nullptr);
+  if (argc > 8) settings.strength = std::strtod(argv[8], nullptr);
+  if (argc > 9) settings.set = argv[9];
   if (const std::optional<std::string> problem = settings.active.validate()) {
     fmt::print(stderr, "custom_nonlinearity: ActiveOptions: {}\n", *problem);
     return 2;
   }
-  if ((mode != "twin" && mode != "plant") || settings.runs < 1 || settings.dimension < 1) {
+  const bool first = settings.set == "first" || settings.set == "all";
+  const bool later = settings.set == "later" || settings.set == "all";
+  if ((mode != "twin" && mode != "plant") || settings.runs < 1 || settings.dimension < 1 ||
+      !(settings.strength >= 0.0 && settings.strength <= 10.0) || !(first || later)) {
     fmt::print(stderr,
                "usage: custom_nonlinearity [twin|plant] [runs >= 1] [dimension >= 1] [seed] "
-               "[twin seed] [correction step fraction] [surprise step fraction]\n");
+               "[twin seed] [correction step fraction] [surprise step fraction] "
+               "[strength in [0, 10]] [first|later|all]\n");
     return 2;
   }
   fmt::print(
       "{} mode, d = {}, {} runs of 100 assemblies, seed {}, twin seed {}, correction step {}, "
-      "surprise step {}\n",
+      "surprise step {}, strength {}, shapes {}\n",
       mode, settings.dimension, settings.runs, settings.seed, settings.twin_seed,
-      settings.active.correction_step_fraction, settings.active.surprise_step_fraction);
+      settings.active.correction_step_fraction, settings.active.surprise_step_fraction,
+      settings.strength, settings.set);
   fmt::print("{:<10} {:>9} {:>14} {:>17} {:>6} {:>11} {:>7}\n", "shape", "departure",
              "no calibration", "active", "lost", "difference", "spread");
-  report<SoftStop>(settings);
-  report<DeadBand>(settings);
-  report<Cubic>(settings);
-  report<Waviness>(settings);
-  report<Saturation>(settings);
-  report<OneSided>(settings);
+  if (first) {
+    report<SoftStop>(settings);
+    report<DeadBand>(settings);
+    report<Cubic>(settings);
+    report<Waviness>(settings);
+    report<Saturation>(settings);
+    report<OneSided>(settings);
+  }
+  if (later) {
+    report<Coupled>(settings);
+    report<Hinge>(settings);
+    report<Exponential>(settings);
+    report<Snap>(settings);
+  }
   return 0;
 }
