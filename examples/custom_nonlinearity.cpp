@@ -20,11 +20,13 @@
 // (standard deviation over the runs) of no calibration; "beyond" marks a difference above it.
 //
 //   custom_nonlinearity [twin|plant] [runs] [dimension] [seed] [twin seed] [correction step]
-//                       [surprise step] [strength] [first|later|all]
+//                       [surprise step] [strength] [first|later|all] [deviations|quality]
 //
 // The correction and surprise steps are ActiveOptions::correction_step_fraction (0, the default:
 // unbounded) and surprise_step_fraction (its default, ¼, unless given); the strength s scales
-// every shape (1 unless given); the set is `first` unless given.
+// every shape (1 unless given); the set is `first` unless given; `quality` fits the controller's
+// models from Q² alone, as for a black box that answers only Q (QuadraticSurrogateOptions::
+// from_deviations off), where the default fits them from the key points' deviations.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -389,6 +391,8 @@ int main(int argc, char** argv) {
   if (argc > 7) settings.active.surprise_step_fraction = std::strtod(argv[7], nullptr);
   if (argc > 8) settings.strength = std::strtod(argv[8], nullptr);
   if (argc > 9) settings.set = argv[9];
+  const std::string models = argc > 10 ? argv[10] : "deviations";
+  settings.active.surrogate.from_deviations = models == "deviations";
   if (const std::optional<std::string> problem = settings.active.validate()) {
     fmt::print(stderr, "custom_nonlinearity: ActiveOptions: {}\n", *problem);
     return 2;
@@ -396,19 +400,20 @@ int main(int argc, char** argv) {
   const bool first = settings.set == "first" || settings.set == "all";
   const bool later = settings.set == "later" || settings.set == "all";
   if ((mode != "twin" && mode != "plant") || settings.runs < 1 || settings.dimension < 1 ||
-      !(settings.strength >= 0.0 && settings.strength <= 10.0) || !(first || later)) {
+      !(settings.strength >= 0.0 && settings.strength <= 10.0) || !(first || later) ||
+      (models != "deviations" && models != "quality")) {
     fmt::print(stderr,
                "usage: custom_nonlinearity [twin|plant] [runs >= 1] [dimension >= 1] [seed] "
                "[twin seed] [correction step fraction] [surprise step fraction] "
-               "[strength in [0, 10]] [first|later|all]\n");
+               "[strength in [0, 10]] [first|later|all] [deviations|quality]\n");
     return 2;
   }
   fmt::print(
       "{} mode, d = {}, {} runs of 100 assemblies, seed {}, twin seed {}, correction step {}, "
-      "surprise step {}, strength {}, shapes {}\n",
+      "surprise step {}, strength {}, shapes {}, models from {}\n",
       mode, settings.dimension, settings.runs, settings.seed, settings.twin_seed,
       settings.active.correction_step_fraction, settings.active.surprise_step_fraction,
-      settings.strength, settings.set);
+      settings.strength, settings.set, models);
   fmt::print("{:<10} {:>9} {:>14} {:>17} {:>6} {:>11} {:>7}\n", "shape", "departure",
              "no calibration", "active", "lost", "difference", "spread");
   if (first) {
