@@ -40,6 +40,38 @@ bool has_method(const py::object& twin, const char* name) {
   return py::hasattr(twin, name) && PyCallable_Check(twin.attr(name).ptr()) != 0;
 }
 
+// twin.<method>(assembly, controls) with the controls as a d × k array (the GIL held).
+py::object call_batch(const py::object& twin, const char* method, PyObject* assembly,
+                      const Eigen::Ref<const MatrixX>& controls) {
+  py::array_t<double, py::array::f_style> batch({controls.rows(), controls.cols()});
+  Eigen::Map<MatrixX>(batch.mutable_data(), controls.rows(), controls.cols()) = controls;
+  return twin.attr(method)(py::handle(assembly), std::move(batch));
+}
+
+// m of a twin with deviations_batch: its key_point_count (an int, or a method returning one).
+Index read_key_point_count(const py::object& twin) {
+  const char* rule =
+      "rule: a twin with deviations_batch has key_point_count, an int m >= 1 (the rows of its "
+      "m × k deviations)";
+  if (!py::hasattr(twin, "key_point_count")) {
+    throw InvalidArgumentError("key_point_count",
+                               fmt::format("twin.key_point_count: missing; {}", rule));
+  }
+  py::object value = twin.attr("key_point_count");
+  if (PyCallable_Check(value.ptr())) value = value();
+  if (!py::isinstance<py::int_>(value) || py::isinstance<py::bool_>(value)) {
+    throw InvalidArgumentError("key_point_count",
+                               fmt::format("twin.key_point_count: {} is not an int; {}",
+                                           py::str(py::repr(value)).cast<std::string>(), rule));
+  }
+  const auto m = value.cast<long long>();
+  if (m < 1) {
+    throw InvalidArgumentError("key_point_count",
+                               fmt::format("twin.key_point_count: value is {}; {}", m, rule));
+  }
+  return static_cast<Index>(m);
+}
+
 }  // namespace
 
 PythonTwin::PythonTwin(py::object twin) {
@@ -48,6 +80,7 @@ PythonTwin::PythonTwin(py::object twin) {
     lower_ = native_->lower_bounds();
     upper_ = native_->upper_bounds();
     names_ = native_->locator_names();
+    key_points_ = native_->key_point_count();
     twin_ = std::make_unique<py::object>(std::move(twin));
     return;
   }
@@ -57,6 +90,7 @@ PythonTwin::PythonTwin(py::object twin) {
                                "quality_batch(assembly, controls) (d × k controls, k qualities)");
   }
   has_optimum_ = has_method(twin, "optimum");
+  if (has_method(twin, "deviations_batch")) key_points_ = read_key_point_count(twin);
   lower_ = read_vector(twin, "lower_bounds", -1);
   if (lower_.size() < 1) {
     throw InvalidArgumentError("lower_bounds", "twin.lower_bounds: rule: must have d >= 1 entries");
@@ -108,12 +142,8 @@ void PythonTwin::quality_batch(const Assembly& assembly, const Eigen::Ref<const 
     return;
   }
   py::gil_scoped_acquire gil;
-  py::array_t<double, py::array::f_style> batch({controls.rows(), controls.cols()});
-  Eigen::Map<MatrixX>(batch.mutable_data(), controls.rows(), controls.cols()) = controls;
-  const py::object result =
-      twin_->attr("quality_batch")(py::handle(assembly.object), std::move(batch));
-  const auto values =
-      py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(result);
+  const auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
+      call_batch(*twin_, "quality_batch", assembly.object, controls));
   if (!values || values.size() != controls.cols()) {
     throw DimensionMismatchError(
         "quality_batch",
@@ -123,6 +153,39 @@ void PythonTwin::quality_batch(const Assembly& assembly, const Eigen::Ref<const 
         values ? values.size() : 0, controls.cols());
   }
   out = Eigen::Map<const VectorX>(values.data(), controls.cols());
+}
+
+void PythonTwin::deviations_batch(const Assembly& assembly,
+                                  const Eigen::Ref<const MatrixX>& controls,
+                                  Eigen::Ref<MatrixX> out) const {
+  if (key_points_ == 0) {
+    throw InvalidArgumentError("deviations",
+                               "twin.deviations_batch: the twin answers only Q; rule: a twin "
+                               "answers its deviations when it has deviations_batch and "
+                               "key_point_count");
+  }
+  require_deviations_batch(controls, out, control_dimension(), key_points_);
+  if (native_) {
+    native_->deviations_batch(assembly.native, controls, out);
+    return;
+  }
+  py::gil_scoped_acquire gil;
+  const auto values = py::array_t<double, py::array::f_style | py::array::forcecast>::ensure(
+      call_batch(*twin_, "deviations_batch", assembly.object, controls));
+  if (!values || values.ndim() != 2 || values.shape(0) != key_points_ ||
+      values.shape(1) != controls.cols()) {
+    const std::string shape = !values ? "no array"
+                              : values.ndim() == 2
+                                  ? fmt::format("a {} × {} array", values.shape(0), values.shape(1))
+                                  : fmt::format("an array of {} dimensions", values.ndim());
+    throw DimensionMismatchError(
+        "deviations_batch",
+        fmt::format("twin.deviations_batch: returned {} for {} controls; rule: m × k = {} × {} "
+                    "(one column of key-point deviations per control)",
+                    shape, controls.cols(), key_points_, controls.cols()),
+        values && values.ndim() == 2 ? values.shape(0) : 0, key_points_);
+  }
+  out = Eigen::Map<const MatrixX>(values.data(), key_points_, controls.cols());
 }
 
 VectorX PythonTwin::optimum(const Assembly& assembly) const {

@@ -9,7 +9,13 @@
 ///     u0 is searched by NLopt (controllers' NloptOptimizer: DIRECT-L over the bounds, then
 ///     BOBYQA) through `quality_batch` one control at a time — thousands of calls per assembly,
 ///     so a twin that knows its optimum should say so;
-///   - optionally `locator_names`: d strings (default "u0", "u1", …).
+///   - optionally `locator_names`: d strings (default "u0", "u1", …);
+///   - optionally `deviations_batch(assembly, controls)` with `key_point_count` (m >= 1, an int
+///     or a method returning one): the m × k deviations r(x, u) of the twin's key points, one
+///     column per control, Q = ‖r‖ / √m. A twin that has them is a TwinWithDeviations: the
+///     active controller fits its models from them by Gauss–Newton (2d + 1 calls for a Jacobian,
+///     where a quadratic fit of Q² takes (d + 1)(d + 2)/2), as the CLI does for its key-point,
+///     FEM and CalculiX twins (docs/controllers.md).
 /// An assembly is any Python object; twincal only passes it back to the twin.
 ///
 /// A `twincal.Twin` (native_twin.hpp) takes a fast path: the controller calls the compiled twin
@@ -28,6 +34,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/case_twin.hpp"
 #include "twincal/models/assembly_id.hpp"
+#include "twincal/models/twin.hpp"
 
 namespace twincal::python {
 
@@ -72,6 +79,14 @@ class PythonTwin {
   [[nodiscard]] double optimal_quality(const Assembly& assembly) const;
   /// Whether the twin provides optimum(assembly) (else NLopt searches it).
   [[nodiscard]] bool has_optimum() const noexcept { return has_optimum_; }
+  /// m, the key points of deviations_batch; 0 for a twin that answers only Q.
+  [[nodiscard]] Index key_point_count() const noexcept { return key_points_; }
+  /// out.col(j) = twin.deviations_batch(assembly, controls)[:, j] (m × k). A Python exception
+  /// propagates as itself.
+  /// @throws InvalidArgumentError (field "deviations") for a twin that answers only Q;
+  ///         DimensionMismatchError (controls, out, the twin's answer's shape).
+  void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
+                        Eigen::Ref<MatrixX> out) const;
 
   /// The Python object.
   [[nodiscard]] pybind11::object object() const;
@@ -88,10 +103,13 @@ class PythonTwin {
   std::unique_ptr<pybind11::object> twin_;  // released with the GIL held (see the destructor)
   std::shared_ptr<const CaseTwin> native_;  // set for a twincal.Twin: the fast path
   bool has_optimum_ = true;
+  Index key_points_ = 0;
   mutable std::optional<SearchedOptimum> searched_;
   VectorX lower_;
   VectorX upper_;
   std::vector<std::string> names_;
 };
+
+static_assert(TwinWithOptimum<PythonTwin> && TwinWithDeviations<PythonTwin>);
 
 }  // namespace twincal::python

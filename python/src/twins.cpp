@@ -56,6 +56,17 @@ NativeTwin make_native_twin(const std::string& twin_case, const std::string& loc
   return NativeTwin{std::make_shared<const CaseTwin>(make_case_twin(config))};
 }
 
+// `evaluate(id, out)` for the assembly `assembly` spells, without the GIL (the twin is
+// compiled), returning `out`.
+template <typename Out, typename Evaluate>
+Out evaluate_released(const NativeTwin& t, const py::handle& assembly, Out out,
+                      const Evaluate& evaluate) {
+  const AssemblyId id = t.assembly(assembly);
+  py::gil_scoped_release release;
+  evaluate(id, out);
+  return out;
+}
+
 }  // namespace
 
 void bind_twins(py::module_& module) {
@@ -96,21 +107,37 @@ void bind_twins(py::module_& module) {
           "quality_batch",
           [](const NativeTwin& t, const py::handle& assembly,
              const Eigen::Ref<const MatrixX>& controls) {
-            const AssemblyId id = t.assembly(assembly);
-            VectorX out(controls.cols());
-            py::gil_scoped_release release;
-            t.twin->quality_batch(id, controls, out);
-            return out;
+            return evaluate_released(t, assembly, VectorX(controls.cols()),
+                                     [&](const AssemblyId& id, VectorX& out) {
+                                       t.twin->quality_batch(id, controls, out);
+                                     });
           },
           py::arg("assembly"), py::arg("controls"),
           "Q(x, u) for every column u of `controls` (d x k): k qualities, one batch.")
+      .def_property_readonly(
+          "key_point_count", [](const NativeTwin& t) { return t.twin->key_point_count(); },
+          "m: the key points whose deviations deviations_batch answers (the FEM twins); 0 for "
+          "a twin that answers only Q (the analytic one).")
+      .def(
+          "deviations_batch",
+          [](const NativeTwin& t, const py::handle& assembly,
+             const Eigen::Ref<const MatrixX>& controls) {
+            return evaluate_released(t, assembly,
+                                     MatrixX(t.twin->key_point_count(), controls.cols()),
+                                     [&](const AssemblyId& id, MatrixX& out) {
+                                       t.twin->deviations_batch(id, controls, out);
+                                     });
+          },
+          py::arg("assembly"), py::arg("controls"),
+          "r(x, u) of the m key points for every column u of `controls` (d x k): an m x k "
+          "array, Q = |r| / sqrt(m). Raises InvalidArgumentError for a twin that answers only Q.")
       .def(
           "quality",
           [](const NativeTwin& t, const py::handle& assembly,
              const Eigen::Ref<const VectorX>& control) {
-            const AssemblyId id = t.assembly(assembly);
-            py::gil_scoped_release release;
-            return t.twin->quality(id, control);
+            return evaluate_released(t, assembly, 0.0, [&](const AssemblyId& id, double& out) {
+              out = t.twin->quality(id, control);
+            });
           },
           py::arg("assembly"), py::arg("control"), "Q(x, u) for one control u (d values).")
       .def(

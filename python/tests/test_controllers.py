@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import twincal
-from twincal.reference_twins import QuadraticRmsTwin
+from twincal.reference_twins import KeyPointRmsTwin, QuadraticRmsTwin
 
 
 class QuadraticTwin(QuadraticRmsTwin):
@@ -149,20 +149,38 @@ def test_active_controller_takes_its_settings_by_name_and_refuses_unknown_ones()
 
 
 class DelegatingTwin:
-    """A Python twin that answers through a twincal.Twin: the controllers then take the Python
-    path (callbacks, arrays crossing both ways) for the same numbers as the compiled twin."""
+    """A Python twin that answers Q through another twin: through a twincal.Twin the controllers
+    take the Python path (callbacks, arrays crossing both ways) for the same numbers as the
+    compiled twin; through a twin that knows its deviations, they see a black box."""
 
     def __init__(self, native):
         self.native = native
         self.lower_bounds = native.lower_bounds
         self.upper_bounds = native.upper_bounds
-        self.assemblies = native.assemblies
 
     def quality_batch(self, assembly, controls):
         return self.native.quality_batch(assembly, controls)
 
     def optimum(self, assembly):
         return self.native.optimum(assembly)
+
+
+class DelegatingTwinWithDeviations(DelegatingTwin):
+    """The same, for a twincal.Twin that answers its key points' deviations."""
+
+    def __init__(self, native):
+        super().__init__(native)
+        self.key_point_count = native.key_point_count
+
+    def deviations_batch(self, assembly, controls):
+        return self.native.deviations_batch(assembly, controls)
+
+
+def delegating(native):
+    """A delegating twin that answers what `native` answers."""
+    if native.key_point_count:
+        return DelegatingTwinWithDeviations(native)
+    return DelegatingTwin(native)
 
 
 def plant_episode(controller, twin, steps):
@@ -196,7 +214,7 @@ def test_a_python_twin_drives_a_controller_to_the_compiled_twins_controls(name, 
     native = twincal.Twin(case, locators="ABC", dimension=3)
     make = PARITY_CONTROLLERS[name]
     compiled = plant_episode(make(native), native, steps=25)
-    through_python = plant_episode(make(DelegatingTwin(native)), native, steps=25)
+    through_python = plant_episode(make(delegating(native)), native, steps=25)
     np.testing.assert_array_equal(through_python[0], compiled[0])
     np.testing.assert_array_equal(through_python[1], compiled[1])
 
@@ -280,3 +298,84 @@ def test_the_active_controller_reports_its_last_step():
     assert (step["change_ratio"] > 1.0) == step["velocity_change"]
     assert isinstance(step["corrected"], bool)
     assert not hasattr(twincal.PaperController(twin), "last_step")
+
+
+class CountingKeyPointTwin(KeyPointRmsTwin):
+    """The reference key-point twin, counting the deviations it is asked for."""
+
+    def __init__(self, d, **kwargs):
+        super().__init__(d, **kwargs)
+        self.deviation_calls = 0
+
+    def deviations_batch(self, assembly, controls):
+        self.deviation_calls += 1
+        return super().deviations_batch(assembly, controls)
+
+
+def test_the_active_controller_fits_its_models_from_a_python_twins_deviations():
+    twin = CountingKeyPointTwin(3, seed=5)
+    baseline, _ = episode(twincal.IndividualizedController(twin), twin)
+    score, _ = episode(twincal.ActiveController(twin, seed=2), twin)
+    assert twin.deviation_calls > 0
+    assert score < 0.5 * baseline, (score, baseline)
+    # Seen as a black box that answers only Q, the same twin is fitted from Q²: no deviations
+    # are asked for, and it still halves the baseline (its Q² is a quadratic).
+    hidden = CountingKeyPointTwin(3, seed=5)
+    score, _ = episode(twincal.ActiveController(DelegatingTwin(hidden), seed=2), hidden)
+    assert hidden.deviation_calls == 0
+    assert score < 0.5 * baseline, (score, baseline)
+
+
+def test_the_reference_key_point_twin_is_the_rms_of_its_deviations_and_optimal_at_u0():
+    twin = KeyPointRmsTwin(3, key_points=12, seed=4)
+    rng = np.random.default_rng(0)
+    controls = rng.uniform(-1.0, 1.0, size=(3, 5))
+    r = twin.deviations_batch(2, controls)
+    assert r.shape == (12, 5)
+    np.testing.assert_allclose(twin.quality_batch(2, controls),
+                               np.linalg.norm(r, axis=0) / np.sqrt(12), rtol=1e-14)
+    z_star = twin.optimal_quality(2)
+    assert z_star == pytest.approx(float(twin.quality_batch(2, twin.optimum(2)[:, None])[0]))
+    assert np.all(twin.quality_batch(2, controls) > z_star)
+
+
+def test_a_python_twins_deviations_are_checked():
+    class NoCount(KeyPointRmsTwin):
+        def __init__(self):
+            super().__init__(2)
+            del self.key_point_count
+
+    with pytest.raises(twincal.InvalidArgumentError, match="key_point_count: missing"):
+        twincal.ActiveController(NoCount())
+    for bad, message in ((0, "value is 0"), (-3, "value is -3"), ("12", "is not an int"),
+                         (True, "is not an int")):
+        twin = KeyPointRmsTwin(2)
+        twin.key_point_count = bad
+        with pytest.raises(twincal.InvalidArgumentError, match=message):
+            twincal.ActiveController(twin)
+
+    class Transposed(KeyPointRmsTwin):
+        def deviations_batch(self, assembly, controls):
+            return super().deviations_batch(assembly, controls).T
+
+    # The model's fit fails on it, and the controller falls back (docs/controllers.md), saying why.
+    controller = twincal.ActiveController(Transposed(2, key_points=6))
+    assert np.all(np.isfinite(controller.propose(0)))
+    assert "deviations_batch: returned a 5 × 6 array for 5 controls" in (
+        controller.last_proposal["fallback"])
+
+
+def test_a_compiled_twin_answers_its_deviations_where_it_has_key_points():
+    body = twincal.Twin("body", locators="ABC")
+    m = body.key_point_count
+    assert m > 0
+    x = body.assemblies[0]
+    controls = np.column_stack([body.optimum(x), body.optimum(x) + 0.1])
+    r = body.deviations_batch(x, controls)
+    assert r.shape == (m, 2)
+    np.testing.assert_allclose(np.linalg.norm(r, axis=0) / np.sqrt(m),
+                               body.quality_batch(x, controls), rtol=1e-9)
+    analytic = twincal.Twin("analytic", dimension=3)
+    assert analytic.key_point_count == 0
+    with pytest.raises(twincal.InvalidArgumentError, match="deviations"):
+        analytic.deviations_batch(analytic.assemblies[0], np.zeros((3, 1)))
