@@ -397,6 +397,19 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "custom_nonlinearity: ActiveOptions: {}\n", *problem);
     return 2;
   }
+  // Which value broke which rule, then the usage line.
+  if (!(settings.strength >= 0.0 && settings.strength <= 10.0)) {
+    fmt::print(stderr, "custom_nonlinearity: strength: value is {}; rule: in [0, 10]\n",
+               settings.strength);
+  }
+  if (settings.set != "first" && settings.set != "later" && settings.set != "all") {
+    fmt::print(stderr, "custom_nonlinearity: set: value is '{}'; rule: first, later or all\n",
+               settings.set);
+  }
+  if (models != "deviations" && models != "quality") {
+    fmt::print(stderr, "custom_nonlinearity: models: value is '{}'; rule: deviations or quality\n",
+               models);
+  }
   const bool first = settings.set == "first" || settings.set == "all";
   const bool later = settings.set == "later" || settings.set == "all";
   if ((mode != "twin" && mode != "plant") || settings.runs < 1 || settings.dimension < 1 ||

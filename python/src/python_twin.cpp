@@ -62,7 +62,7 @@ Index read_key_point_count(const py::object& twin) {
   if (!py::isinstance<py::int_>(value) || py::isinstance<py::bool_>(value)) {
     throw InvalidArgumentError("key_point_count",
                                fmt::format("twin.key_point_count: {} is not an int; {}",
-                                           py::str(py::repr(value)).cast<std::string>(), rule));
+                                           py::repr(value).cast<std::string>(), rule));
   }
   const auto m = value.cast<long long>();
   if (m < 1) {
@@ -172,18 +172,21 @@ void PythonTwin::deviations_batch(const Assembly& assembly,
   py::gil_scoped_acquire gil;
   const auto values = py::array_t<double, py::array::f_style | py::array::forcecast>::ensure(
       call_batch(*twin_, "deviations_batch", assembly.object, controls));
-  if (!values || values.ndim() != 2 || values.shape(0) != key_points_ ||
-      values.shape(1) != controls.cols()) {
-    const std::string shape = !values ? "no array"
-                              : values.ndim() == 2
+  const bool matrix = values && values.ndim() == 2;
+  const bool rows_right = matrix && values.shape(0) == key_points_;
+  if (!rows_right || values.shape(1) != controls.cols()) {
+    const std::string shape = matrix
                                   ? fmt::format("a {} × {} array", values.shape(0), values.shape(1))
-                                  : fmt::format("an array of {} dimensions", values.ndim());
+                              : values ? fmt::format("an array of {} dimensions", values.ndim())
+                                       : std::string("no array");
+    // The mismatch named: the rows if they are wrong, else the columns.
+    const Index actual = !matrix ? 0 : rows_right ? values.shape(1) : values.shape(0);
     throw DimensionMismatchError(
         "deviations_batch",
         fmt::format("twin.deviations_batch: returned {} for {} controls; rule: m × k = {} × {} "
                     "(one column of key-point deviations per control)",
                     shape, controls.cols(), key_points_, controls.cols()),
-        values && values.ndim() == 2 ? values.shape(0) : 0, key_points_);
+        actual, rows_right ? controls.cols() : key_points_);
   }
   out = Eigen::Map<const MatrixX>(values.data(), key_points_, controls.cols());
 }
