@@ -23,6 +23,8 @@ void bind_twins(pybind11::module_& module);
 /// ActiveController over a twin written in Python or a twincal.Twin (controllers.cpp,
 /// python_twin.hpp).
 void bind_controllers(pybind11::module_& module);
+/// BudgetedOptimum: u0 of a twin written in Python searched within a budget (optimum.cpp).
+void bind_optimum(pybind11::module_& module);
 /// `_run_experiment`, behind twincal.run_experiment (experiments.cpp).
 void bind_experiments(pybind11::module_& module);
 

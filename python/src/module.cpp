@@ -15,6 +15,7 @@ PYBIND11_MODULE(_twincal, module) {
   twincal::python::bind_square_root_filters(module);
   twincal::python::bind_samplers(module);
   twincal::python::bind_twins(module);
+  twincal::python::bind_optimum(module);
   twincal::python::bind_controllers(module);
   twincal::python::bind_experiments(module);
 }

@@ -90,6 +90,7 @@ PythonTwin::PythonTwin(py::object twin) {
                                "quality_batch(assembly, controls) (d × k controls, k qualities)");
   }
   has_optimum_ = has_method(twin, "optimum");
+  has_optimal_quality_ = has_optimum_ && has_method(twin, "optimal_quality");
   if (has_method(twin, "deviations_batch")) key_points_ = read_key_point_count(twin);
   lower_ = read_vector(twin, "lower_bounds", -1);
   if (lower_.size() < 1) {
@@ -213,8 +214,11 @@ VectorX PythonTwin::optimum(const Assembly& assembly) const {
 double PythonTwin::optimal_quality(const Assembly& assembly) const {
   if (native_) return native_->optimal_quality(assembly.native);
   if (!has_optimum_) return searched_optimum(assembly).quality;
-  const VectorX u0 = optimum(assembly);
-  return quality(assembly, u0);
+  if (!has_optimal_quality_) return quality(assembly, optimum(assembly));
+  py::gil_scoped_acquire gil;
+  const double z = py::float_(twin_->attr("optimal_quality")(py::handle(assembly.object)));
+  require_finite("twin.optimal_quality", z);
+  return z;
 }
 
 const IndividualControl& PythonTwin::searched_optimum(const Assembly& assembly) const {

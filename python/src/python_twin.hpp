@@ -9,6 +9,9 @@
 ///     u0 is searched by NLopt (controllers' NloptOptimizer: DIRECT-L over the bounds, then
 ///     BOBYQA) through `quality_batch` one control at a time — thousands of calls per assembly,
 ///     so a twin that knows its optimum should say so;
+///     With `optimum`, optionally `optimal_quality(assembly)`: z*(x) = Q(x, u0), which is
+///     otherwise one more quality_batch call at u0 (twincal.BudgetedOptimum answers both from
+///     one search);
 ///   - optionally `locator_names`: d strings (default "u0", "u1", …);
 ///   - optionally `deviations_batch(assembly, controls)` with `key_point_count` (m >= 1, an int
 ///     or a method returning one): the m × k deviations r(x, u) of the twin's key points, one
@@ -103,6 +106,7 @@ class PythonTwin {
   std::unique_ptr<pybind11::object> twin_;  // released with the GIL held (see the destructor)
   std::shared_ptr<const CaseTwin> native_;  // set for a twincal.Twin: the fast path
   bool has_optimum_ = true;
+  bool has_optimal_quality_ = false;  // twin.optimal_quality(assembly), beside its optimum
   Index key_points_ = 0;
   mutable std::optional<SearchedOptimum> searched_;
   VectorX lower_;

@@ -119,6 +119,13 @@ def test_bad_twins_and_measurements_raise_typed_errors():
         def quality_batch(self, assembly, controls):
             return np.ones(controls.shape[1] + 1)
 
+    # The candidates' batch falls back to the default control and says why; z* asked of the
+    # twin (no optimal_quality of its own: Q at u0) raises.
+    controller = twincal.PaperController(WrongSize(2))
+    controller.propose(0)
+    assert "twin.quality_batch: returned 76 values for 75 controls" in (
+        controller.last_proposal["fallback"])
+    WrongSize.optimal_quality = None
     with pytest.raises(twincal.DimensionMismatchError, match="quality_batch"):
         twincal.PaperController(WrongSize(2)).propose(0)
     controller = twincal.ActiveController(QuadraticTwin(2))

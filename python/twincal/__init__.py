@@ -22,6 +22,7 @@ message, which names the argument, its value and the rule; the filter is then un
 
 from ._twincal import (
     ActiveController,
+    BudgetedOptimum,
     DefaultController,
     DimensionMismatchError,
     Error,
@@ -97,6 +98,7 @@ def CubatureKalmanFilter(dim_x, hx, **options):
 
 __all__ = [
     "ActiveController",
+    "BudgetedOptimum",
     "CubatureKalmanFilter",
     "DefaultController",
     "DimensionMismatchError",
