@@ -159,6 +159,9 @@ void print_study(const std::vector<ExperimentGroup>& groups, const ResultStore& 
   if (const std::string departures = format_departures(studied); !departures.empty()) {
     fmt::print("\n{}", departures);
   }
+  if (const std::string searches = format_optimum_searches(studied); !searches.empty()) {
+    fmt::print("\n{}", searches);
+  }
 }
 
 #if TWINCAL_WITH_MPI

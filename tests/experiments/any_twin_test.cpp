@@ -1,5 +1,7 @@
 #include "twincal/experiments/any_twin.hpp"
 
+#include <cstdint>
+#include <optional>
 #include <utility>
 
 #include <gmock/gmock.h>
@@ -64,6 +66,24 @@ TEST(AnyTwin, ATwinThatAnswersOnlyItsQualityHasNoKeyPoints) {
       },
       ::testing::ThrowsMessage<InvalidArgumentError>(
           ::testing::HasSubstr("deviations: this twin answers only its quality")));
+}
+
+TEST(AnyTwin, ReportsWhatTheOptimumSearchesOfATwinThatSearchesCost) {
+  KeyPointTwinOptions options;
+  options.assemblies.dimension = 3;
+  const KeyPointTwin<KinkNonlinearity> twin(options, RandomStream(6));
+  SearchedOptimumTwin<KeyPointTwin<KinkNonlinearity>> searched(twin, {{4, 1}, {2, 7}});
+  const std::uint64_t evaluations = searched.search_evaluations();
+  ASSERT_GT(evaluations, 0U);
+  const AnyTwin any(std::move(searched), {{4, 1}, {2, 7}}, {0, 1, 2});
+  const std::optional<OptimumSearchCost> cost = any.optimum_search();
+  ASSERT_TRUE(cost.has_value());
+  EXPECT_EQ(cost->evaluations, evaluations);
+  EXPECT_EQ(cost->requests, evaluations);  // NLopt asks for one control per call
+  EXPECT_EQ(cost->assemblies, 2);
+  // A twin that knows its optimum searched nothing.
+  const RmsQuadraticTwin exact = RmsQuadraticTwin::generate({}, RandomStream(5));
+  EXPECT_FALSE(AnyTwin(exact, exact.assemblies(), {0}).optimum_search().has_value());
 }
 
 TEST(AnyTwin, CopiesShareTheTwin) {

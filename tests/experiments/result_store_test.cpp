@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -62,6 +63,27 @@ TEST_F(ResultStoreOfAnalyticGroup, AppendsRowsAndRecordsAndReloadsThem) {
   EXPECT_TRUE(reopened.contains("analytic/B", "baseline", 0));
   ASSERT_EQ(reopened.groups().size(), 1U);
   EXPECT_EQ(reopened.groups()[0].at("twin").at("locator_names"), nlohmann::json::array({"B"}));
+  // The RMS-quadratic twin knows its optimum: nothing was searched.
+  EXPECT_TRUE(reopened.groups()[0].at("twin").at("optimum_search").is_null());
+}
+
+TEST(ResultStore, RecordsWhatTheTwinsU0SearchCostPerAssembly) {
+  const fs::path dir = store_scratch("RecordsWhatTheTwinsU0SearchCostPerAssembly");
+  const auto config = nlohmann::json::parse(R"({"case": "analytic", "locators": "all",
+      "analytic_dimension": 2, "nonlinearity": "kink", "controllers": ["baseline"]})")
+                          .get<ExperimentConfig>();
+  const CaseTwin twin = make_case_twin(config);
+  const std::optional<OptimumSearchCost> cost = twin.full_twin().optimum_search();
+  ASSERT_TRUE(cost.has_value());
+  ResultStore store(dir);
+  store.add_group({config, nlohmann::json::object()}, twin);
+  const nlohmann::json& search = store.groups()[0].at("twin").at("optimum_search");
+  const auto assemblies = static_cast<double>(twin.assemblies().size());
+  EXPECT_DOUBLE_EQ(search.at("evaluations_per_assembly").get<double>(),
+                   static_cast<double>(cost->evaluations) / assemblies);
+  EXPECT_DOUBLE_EQ(search.at("requests_per_assembly").get<double>(),
+                   static_cast<double>(cost->requests) / assemblies);
+  EXPECT_GT(search.at("evaluations_per_assembly").get<double>(), 100.0);  // NLopt: thousands
 }
 
 TEST_F(ResultStoreOfAnalyticGroup, RecordsTheLostRuleAndReadsItBackIdentically) {

@@ -104,5 +104,20 @@ TEST(FormatDepartures, OneLinePerGroupWithARecordedDeparture) {
   EXPECT_EQ(format_departures(json::array()), "");
 }
 
+TEST(FormatOptimumSearches, OneLinePerGroupWhoseTwinSearchedU0) {
+  const json groups = json::array(
+      {json{{"name", "external/all"},
+            {"twin",
+             {{"optimum_search",
+               {{"evaluations_per_assembly", 338.0}, {"requests_per_assembly", 98.5}}}}}},
+       json{{"name", "analytic/all"}, {"twin", {{"optimum_search", nullptr}}}},
+       json{{"name", "old"}, {"twin", {{"dimension", 3}}}}});
+  const std::string text = format_optimum_searches(groups);
+  EXPECT_EQ(text,
+            "external/all: u0 searched in 338.0 twin evaluations per assembly (98.5 "
+            "requests)\n");
+  EXPECT_EQ(format_optimum_searches(json::array()), "");
+}
+
 }  // namespace
 }  // namespace twincal

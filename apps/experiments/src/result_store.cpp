@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -229,6 +230,14 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
   twin_json["quadratic_departure"] = config.twin_case == TwinCase::external
                                          ? json(nullptr)
                                          : json(median_quadratic_departure(twin));
+  // What u0 cost where it is searched (the budget a real twin pays before the controller).
+  json search(nullptr);
+  if (const std::optional<OptimumSearchCost> cost = twin.full_twin().optimum_search()) {
+    const auto searched = static_cast<double>(std::max<Index>(cost->assemblies, 1));
+    search = {{"evaluations_per_assembly", static_cast<double>(cost->evaluations) / searched},
+              {"requests_per_assembly", static_cast<double>(cost->requests) / searched}};
+  }
+  twin_json["optimum_search"] = search;
   groups_.push_back(json{{"name", name},
                          {"config", config},
                          {"tags", group.tags},

@@ -122,4 +122,18 @@ std::string format_departures(const json& groups) {
   return out;
 }
 
+std::string format_optimum_searches(const json& groups) {
+  std::string out;
+  for (const json& group : groups) {
+    if (!group.contains("twin") || !group.at("twin").contains("optimum_search")) continue;
+    const json& search = group.at("twin").at("optimum_search");
+    if (search.is_null()) continue;
+    out += fmt::format(
+        "{}: u0 searched in {:.1f} twin evaluations per assembly ({:.1f} requests)\n",
+        group.at("name").get<std::string>(), search.at("evaluations_per_assembly").get<double>(),
+        search.at("requests_per_assembly").get<double>());
+  }
+  return out;
+}
+
 }  // namespace twincal

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <concepts>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +25,15 @@
 #include "twincal/models/twin.hpp"
 
 namespace twincal {
+
+/// What searching u0(x) (eq. 3) cost a twin that searches it (SearchedOptimumTwin,
+/// ExternalCaseTwin): its evaluations and requests over the assemblies it searched.
+struct OptimumSearchCost {
+  std::uint64_t evaluations = 0;
+  /// Calls of the twin: batches for the batched searches, one per evaluation otherwise.
+  std::uint64_t requests = 0;
+  Index assemblies = 0;
+};
 
 class AnyTwin {
  public:
@@ -77,6 +87,10 @@ class AnyTwin {
                          const std::optional<ScannedOptimum>& known = std::nullopt) {
     return model_->add_scanned(parts, known);
   }
+  /// What the twin's u0 searches cost so far; nothing for a twin that knows its optimum.
+  [[nodiscard]] std::optional<OptimumSearchCost> optimum_search() const {
+    return model_->optimum_search();
+  }
   /// The twin's own assemblies (pairs of part indices), not the scanned ones.
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
   /// Indices of the locators A, B, C (the ones that affect the quality most).
@@ -102,6 +116,7 @@ class AnyTwin {
     [[nodiscard]] virtual double optimal_quality(const AssemblyId&) const = 0;
     virtual AssemblyId add_scanned(const nlohmann::json& parts,
                                    const std::optional<ScannedOptimum>& known) = 0;
+    [[nodiscard]] virtual std::optional<OptimumSearchCost> optimum_search() const = 0;
   };
 
   template <typename T>
@@ -150,6 +165,18 @@ class AnyTwin {
         return twin.add_scanned(parts, known);
       } else {
         throw_without_scanned_parts();
+      }
+    }
+    [[nodiscard]] std::optional<OptimumSearchCost> optimum_search() const override {
+      if constexpr (requires { twin.search_evaluations(); }) {
+        OptimumSearchCost cost{.evaluations = twin.search_evaluations(),
+                               .requests = twin.search_evaluations(),
+                               .assemblies = std::ssize(twin.assemblies())};
+        if constexpr (requires { twin.search_requests(); }) cost.requests = twin.search_requests();
+        if constexpr (requires { twin.scanned_count(); }) cost.assemblies += twin.scanned_count();
+        return cost;
+      } else {
+        return std::nullopt;
       }
     }
     T twin;

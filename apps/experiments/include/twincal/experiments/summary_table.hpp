@@ -44,4 +44,9 @@ struct SummaryRow {
 /// Empty when no group has one.
 [[nodiscard]] std::string format_departures(const nlohmann::json& groups);
 
+/// One line per group whose twin searched u0(x) (eq. 3; ResultStore::add_group): its twin
+/// evaluations and requests per assembly, what a new assembly costs before the controller's own
+/// calls (the Q/assembly column). Empty when no group searched.
+[[nodiscard]] std::string format_optimum_searches(const nlohmann::json& groups);
+
 }  // namespace twincal
