@@ -41,6 +41,18 @@ std::string cell(double value, int precision) {
   return std::isnan(value) ? std::string("-") : fmt::format("{:.{}f}", value, precision);
 }
 
+// One line per group whose twin records `field` (not null), as line(group name, value) writes it.
+template <typename Line>
+std::string lines_of_twin_field(const json& groups, const char* field, const Line& line) {
+  std::string out;
+  for (const json& group : groups) {
+    if (!group.contains("twin") || !group.at("twin").contains(field)) continue;
+    const json& value = group.at("twin").at(field);
+    if (!value.is_null()) out += line(group.at("name").get<std::string>(), value);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& episodes) {
@@ -109,31 +121,24 @@ std::string format_summary(const std::vector<SummaryRow>& rows) {
 }
 
 std::string format_departures(const json& groups) {
-  std::string out;
-  for (const json& group : groups) {
-    if (!group.contains("twin") || !group.at("twin").contains("quadratic_departure")) continue;
-    const json& departure = group.at("twin").at("quadratic_departure");
-    if (departure.is_null()) continue;
-    out += fmt::format(
-        "{}: Q² departs {:.3f} from a quadratic (RMS residual of its best quadratic "
-        "fit over u0 ± ¼ box, / its sd; median of 10 assemblies)\n",
-        group.at("name").get<std::string>(), departure.get<double>());
-  }
-  return out;
+  return lines_of_twin_field(groups, "quadratic_departure",
+                             [](const std::string& name, const json& departure) {
+                               return fmt::format(
+                                   "{}: Q² departs {:.3f} from a quadratic (RMS residual of its "
+                                   "best quadratic fit over u0 "
+                                   "± ¼ box, / its sd; median of 10 assemblies)\n",
+                                   name, departure.get<double>());
+                             });
 }
 
 std::string format_optimum_searches(const json& groups) {
-  std::string out;
-  for (const json& group : groups) {
-    if (!group.contains("twin") || !group.at("twin").contains("optimum_search")) continue;
-    const json& search = group.at("twin").at("optimum_search");
-    if (search.is_null()) continue;
-    out += fmt::format(
-        "{}: u0 searched in {:.1f} twin evaluations per assembly ({:.1f} requests)\n",
-        group.at("name").get<std::string>(), search.at("evaluations_per_assembly").get<double>(),
-        search.at("requests_per_assembly").get<double>());
-  }
-  return out;
+  return lines_of_twin_field(
+      groups, "optimum_search", [](const std::string& name, const json& search) {
+        return fmt::format(
+            "{}: u0 searched in {:.1f} twin evaluations per assembly ({:.1f} requests)\n", name,
+            search.at("evaluations_per_assembly").get<double>(),
+            search.at("requests_per_assembly").get<double>());
+      });
 }
 
 }  // namespace twincal
