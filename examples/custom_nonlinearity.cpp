@@ -398,29 +398,28 @@ int main(int argc, char** argv) {
     return 2;
   }
   // Which value broke which rule, then the usage line.
-  if (!(settings.strength >= 0.0 && settings.strength <= 10.0)) {
-    fmt::print(stderr, "custom_nonlinearity: strength: value is {}; rule: in [0, 10]\n",
-               settings.strength);
-  }
-  if (settings.set != "first" && settings.set != "later" && settings.set != "all") {
-    fmt::print(stderr, "custom_nonlinearity: set: value is '{}'; rule: first, later or all\n",
-               settings.set);
-  }
-  if (models != "deviations" && models != "quality") {
-    fmt::print(stderr, "custom_nonlinearity: models: value is '{}'; rule: deviations or quality\n",
-               models);
-  }
-  const bool first = settings.set == "first" || settings.set == "all";
-  const bool later = settings.set == "later" || settings.set == "all";
-  if ((mode != "twin" && mode != "plant") || settings.runs < 1 || settings.dimension < 1 ||
-      !(settings.strength >= 0.0 && settings.strength <= 10.0) || !(first || later) ||
-      (models != "deviations" && models != "quality")) {
+  bool refused = false;
+  const auto require = [&](bool holds, const std::string& problem) {
+    if (holds) return;
+    fmt::print(stderr, "custom_nonlinearity: {}\n", problem);
+    refused = true;
+  };
+  require(settings.strength >= 0.0 && settings.strength <= 10.0,
+          fmt::format("strength: value is {}; rule: in [0, 10]", settings.strength));
+  require(settings.set == "first" || settings.set == "later" || settings.set == "all",
+          fmt::format("set: value is '{}'; rule: first, later or all", settings.set));
+  require(models == "deviations" || models == "quality",
+          fmt::format("models: value is '{}'; rule: deviations or quality", models));
+  if (refused || (mode != "twin" && mode != "plant") || settings.runs < 1 ||
+      settings.dimension < 1) {
     fmt::print(stderr,
                "usage: custom_nonlinearity [twin|plant] [runs >= 1] [dimension >= 1] [seed] "
                "[twin seed] [correction step fraction] [surprise step fraction] "
                "[strength in [0, 10]] [first|later|all] [deviations|quality]\n");
     return 2;
   }
+  const bool first = settings.set == "first" || settings.set == "all";
+  const bool later = settings.set == "later" || settings.set == "all";
   fmt::print(
       "{} mode, d = {}, {} runs of 100 assemblies, seed {}, twin seed {}, correction step {}, "
       "surprise step {}, strength {}, shapes {}, models from {}\n",
