@@ -84,10 +84,12 @@ TYPED_TEST(ActiveControllerTest, RecoversFromAnOverconfidentMirrorImageStart) {
   EXPECT_LT(track(controller, twin, offset, 120), 0.05);
 }
 
+// With clamp_beyond_reach, a lost estimate is applied clamped to the correction's reach (by
+// default it is not applied at all: LeavesAnEstimateBeyondTheCorrectionsReachUnapplied).
 TYPED_TEST(ActiveControllerTest, ClipsControlsToTheTwinBoundsWhenTheEstimateIsLost) {
   const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
-  TypeParam controller(counting, RandomStream(3));
+  TypeParam controller(counting, RandomStream(3), ActiveOptions{.clamp_beyond_reach = true});
   controller.restart(Eigen::Vector3d::Constant(5.0),
                      SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-3);
   const AssemblyId x{2, 3};
@@ -96,7 +98,8 @@ TYPED_TEST(ActiveControllerTest, ClipsControlsToTheTwinBoundsWhenTheEstimateIsLo
   const VectorX twin_frame = u - VectorX::Ones(3);
   EXPECT_TRUE((twin_frame.array() >= twin.lower_bounds().array()).all()) << u.transpose();
   EXPECT_TRUE((twin_frame.array() <= twin.upper_bounds().array()).all()) << u.transpose();
-  TypeParam uncorrected(counting, RandomStream(3), ActiveOptions{.max_offset_fraction = 0.0});
+  TypeParam uncorrected(counting, RandomStream(3),
+                        ActiveOptions{.max_offset_fraction = 0.0, .clamp_beyond_reach = true});
   uncorrected.restart(Eigen::Vector3d::Constant(5.0),
                       SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-3);
   // Without corrections the control is the twin-frame one (up to the rounding of u − 1).
@@ -151,6 +154,45 @@ TYPED_TEST(ActiveControllerTest, MovesTheCorrectionAtMostItsStepPerAssembly) {
   // 0.3 / 0.02 = 15 assemblies to reach the estimate, which stayed at the offset.
   EXPECT_LT((last - VectorX(bounded.offset_estimate())).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_LT((last - offset).cwiseAbs().maxCoeff(), 0.02);
+}
+
+// An estimate beyond the correction's reach (max_offset_fraction of the box width on some
+// locator) is not applied, the control staying at u0 + p, unless clamp_beyond_reach, which applies
+// it clamped to the reach; an estimate within the reach is applied either way.
+TYPED_TEST(ActiveControllerTest, LeavesAnEstimateBeyondTheCorrectionsReachUnapplied) {
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
+  const CountingTwin counting(twin);
+  const VectorX lower = twin.lower_bounds();
+  const VectorX upper = twin.upper_bounds();
+  const ActiveOptions defaults{};
+  const VectorX reach = defaults.max_offset_fraction * (upper - lower);
+  const AssemblyId x = twin.assemblies().front();
+  // The correction of the first proposal after restart(estimate), and whether it was applied.
+  const auto first_correction = [&](const VectorX& estimate, bool clamp) {
+    TypeParam controller(counting, RandomStream(12),
+                         ActiveOptions{.max_probe_fraction = 1e-9, .clamp_beyond_reach = clamp});
+    controller.restart(estimate,
+                       SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+    const VectorX u = controller.propose(x);
+    return std::pair{applied_correction(controller, u, lower, upper),
+                     controller.last_step().corrected};
+  };
+  const VectorX within = reach.cwiseProduct(Eigen::Vector3d(0.9, -0.5, 0.2));
+  VectorX beyond = within;
+  beyond(0) = 1.1 * reach(0);
+  VectorX clamped = beyond;
+  clamped(0) = reach(0);
+  for (const bool clamp : {false, true}) {
+    const auto [correction, corrected] = first_correction(within, clamp);
+    EXPECT_TRUE(corrected) << "clamp_beyond_reach " << clamp;
+    EXPECT_LT((correction - within).cwiseAbs().maxCoeff(), 1e-6) << correction.transpose();
+  }
+  const auto [held, held_corrected] = first_correction(beyond, false);
+  EXPECT_FALSE(held_corrected);
+  EXPECT_LT(held.cwiseAbs().maxCoeff(), 1e-6) << held.transpose();
+  const auto [applied, applied_corrected] = first_correction(beyond, true);
+  EXPECT_TRUE(applied_corrected);
+  EXPECT_LT((applied - clamped).cwiseAbs().maxCoeff(), 1e-6) << applied.transpose();
 }
 
 // With surprise_step_fraction, a correction right after a surprise — a z beyond the innovation
@@ -487,7 +529,8 @@ TEST(ActiveController, PairsItsAuditedAssembliesOnlyAcrossAdjacentAssembliesOfDi
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
   const std::vector<AssemblyId> assemblies = twin.assemblies();
-  const ActiveOptions options{.audit_period = 3, .audit_window = 4};
+  // Its estimates beyond the correction's reach applied, clamped, as they make the audit's pairs.
+  const ActiveOptions options{.clamp_beyond_reach = true, .audit_period = 3, .audit_window = 4};
   ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6), options);
   const auto window = static_cast<std::size_t>(options.audit_window);
   std::array<std::vector<double>, 2> expected{std::vector<double>(window, 0.0),

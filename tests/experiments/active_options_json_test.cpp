@@ -54,6 +54,7 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"max_horizon", 50.0, [](auto& o) { return o.max_horizon == 50.0; }},
       {"max_probe_fraction", 0.2, [](auto& o) { return o.max_probe_fraction == 0.2; }},
       {"max_offset_fraction", 0.4, [](auto& o) { return o.max_offset_fraction == 0.4; }},
+      {"clamp_beyond_reach", true, [](auto& o) { return o.clamp_beyond_reach; }},
       {"correction_step_fraction", 0.05,
        [](auto& o) { return o.correction_step_fraction == 0.05; }},
       {"surprise_step_fraction", 0.1, [](auto& o) { return o.surprise_step_fraction == 0.1; }},

@@ -23,7 +23,7 @@ struct OptionField {
   std::variant<double Options::*, Index Options::*, int Options::*, bool Options::*> member;
 };
 
-constexpr std::array<OptionField<ActiveOptions>, 24> active_fields{{
+constexpr std::array<OptionField<ActiveOptions>, 25> active_fields{{
     {"process_variance", &ActiveOptions::process_variance},
     {"min_process_variance", &ActiveOptions::min_process_variance},
     {"max_process_variance", &ActiveOptions::max_process_variance},
@@ -31,6 +31,7 @@ constexpr std::array<OptionField<ActiveOptions>, 24> active_fields{{
     {"max_horizon", &ActiveOptions::max_horizon},
     {"max_probe_fraction", &ActiveOptions::max_probe_fraction},
     {"max_offset_fraction", &ActiveOptions::max_offset_fraction},
+    {"clamp_beyond_reach", &ActiveOptions::clamp_beyond_reach},
     {"correction_step_fraction", &ActiveOptions::correction_step_fraction},
     {"surprise_step_fraction", &ActiveOptions::surprise_step_fraction},
     {"innovation_gate", &ActiveOptions::innovation_gate},

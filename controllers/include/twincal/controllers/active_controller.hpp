@@ -17,7 +17,8 @@
 ///      without a model that passed its check) and u_t = clip(u0 + p) + clamp(δû): the twin's
 ///      locator bounds hold in the twin's frame (u_t − δû), and the correction is at most
 ///      ActiveOptions::max_offset_fraction of the box width, so a twin optimum at its bound can
-///      be corrected and a lost estimate cannot drive the fixture far outside its range; right
+///      be corrected and a lost estimate cannot drive the fixture far outside its range (an
+///      estimate beyond that reach is not applied: ActiveOptions::clamp_beyond_reach); right
 ///      after a surprise (a z the estimate neither predicted nor explains once refitted) it
 ///      moves at most ActiveOptions::surprise_step_fraction of the box from the last one applied
 ///      (always, with correction_step_fraction);
@@ -201,7 +202,7 @@ class ActiveCalibrationController {
       // quadratic, anywhere is the same).
       if (estimator_.fit_time() != time_) estimator_.fit(time_);
       const bool wanted = estimator_.significant() || restarted_;
-      bool correct = wanted && !harmful();
+      bool correct = wanted && !harmful() && !beyond_reach();
       if (options_.fit_at_audited_arm && wanted) {
         // The audit picks its arm now, from the last assembly's model, and the model is fitted
         // where that arm puts the plant.
@@ -260,9 +261,9 @@ class ActiveCalibrationController {
     step_.corrected = !quadratic_ || estimator_.significant() || restarted_;
     // Do no harm: an estimate that keeps failing to predict the plant (a model that errs, or a
     // plant that is not the twin) is not applied (the control falls back to u0 + p) until it
-    // predicts again.
+    // predicts again; nor is one beyond the correction's reach.
     const bool wanted = step_.corrected;
-    if (quadratic_ && harmful()) step_.corrected = false;
+    if (quadratic_ && (harmful() || beyond_reach())) step_.corrected = false;
     if (options_.fit_at_audited_arm) {
       step_.audited = quadratic_ && audited_arm_.has_value();
       if (step_.audited) step_.corrected = step_.corrected && *audited_arm_;
@@ -792,6 +793,15 @@ class ActiveCalibrationController {
     std::size_t beyond = 0;
     for (std::size_t i = 0; i < kept; ++i) beyond += recent_innovations_[i] > gate2 ? 1U : 0U;
     return beyond >= static_cast<std::size_t>(options_.trajectory.change_window) + 2;
+  }
+
+  // An estimate beyond the correction's reach (|δû_i| > max_offset_ on some locator) is far
+  // beyond any offset the box was built for: the estimator has lost the plant, and clamping
+  // such an estimate puts the fixture at the reach's corner, where a plant that is not the twin
+  // can answer with many times z* (ActiveOptions::clamp_beyond_reach).
+  [[nodiscard]] bool beyond_reach() const noexcept {
+    return !options_.clamp_beyond_reach &&
+           (estimator_.position().array().abs() > max_offset_.array()).any();
   }
 
   // The unscented update of z (filters' measurement_statistics, as SigmaPointFilter's).

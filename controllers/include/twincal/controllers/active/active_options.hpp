@@ -47,6 +47,18 @@ struct ActiveOptions {
   /// clip(u0 + p, box) + clamp(δû, ±max_offset_fraction·width): a twin optimum at its bound can
   /// still be corrected, and a lost estimate moves the fixture at most this far outside the box.
   double max_offset_fraction = 0.5;
+  /// An estimate beyond that reach (|δû_i| > max_offset_fraction·width on some locator) is
+  /// applied clamped to it (true) or not at all (false: the control is u0 + p, as for an
+  /// estimate that is not significant). No offset the box was built for is that large (the
+  /// paper's drift, eq. (15), stays within ±0.5 mm, ¼ of its ±1 mm box's width), so such an
+  /// estimate says the estimator has lost the plant, and the clamped correction puts the fixture at
+  /// the corner of its reach, where a plant that is not the twin can answer with many times z*:
+  /// traced on a plant that stiffens cubically (d = 12), one such assembly at 132 z*. A user whose
+  /// offsets may exceed the reach sets true (and widens max_offset_fraction). Measured on
+  /// 2026-11-30 (docs/reproduction.md, "An estimate beyond the correction's reach"): the user's six
+  /// shapes as plants on nine seed pairs, cells beyond the baseline's spread 1 → 0; twins whose
+  /// plant is the twin move by at most a few thousandths.
+  bool clamp_beyond_reach = false;
   /// Largest change of the applied correction from one corrected assembly to the next, per
   /// locator, as a fraction of the box width there (0: none, the default). For a plant that is
   /// not the twin (Assumption 1 broken): there a quadratic twin's models pass their checks while
