@@ -202,7 +202,7 @@ class ActiveCalibrationController {
       // quadratic, anywhere is the same).
       if (estimator_.fit_time() != time_) estimator_.fit(time_);
       const bool wanted = estimator_.significant() || restarted_;
-      bool correct = wanted && !harmful() && !beyond_reach();
+      bool correct = wanted && !held_back();
       if (options_.fit_at_audited_arm && wanted) {
         // The audit picks its arm now, from the last assembly's model, and the model is fitted
         // where that arm puts the plant.
@@ -263,7 +263,7 @@ class ActiveCalibrationController {
     // plant that is not the twin) is not applied (the control falls back to u0 + p) until it
     // predicts again; nor is one beyond the correction's reach.
     const bool wanted = step_.corrected;
-    if (quadratic_ && (harmful() || beyond_reach())) step_.corrected = false;
+    if (quadratic_ && held_back()) step_.corrected = false;
     if (options_.fit_at_audited_arm) {
       step_.audited = quadratic_ && audited_arm_.has_value();
       if (step_.audited) step_.corrected = step_.corrected && *audited_arm_;
@@ -757,7 +757,7 @@ class ActiveCalibrationController {
   // Do no harm, measured (DoNoHarmAudit): where the estimate is in doubt — the twin's model
   // failed its check (τ² > 0), or the estimator's innovations misfit the plant by audit_misfit or
   // more (its prediction_scale(): a plant that is not the twin) — every assembly whose estimate
-  // would be applied is audited (one held back by harmful() joins the uncorrected arm). After the
+  // would be applied is audited (one held_back() joins the uncorrected arm). After the
   // model's fit, from its own check; with fit_at_audited_arm before it (audit_decision), from the
   // last assembly's.
   void audit(bool wanted) {
@@ -781,6 +781,10 @@ class ActiveCalibrationController {
     const double best = std::max(report_.optimal_quality, std::numeric_limits<double>::min());
     audit_.record(assemblies_, step_.corrected, (z - best) / best);
   }
+
+  // The estimate is not applied where a do-no-harm rule holds it back: the plant keeps
+  // surprising it (harmful()), or it lies beyond the correction's reach (beyond_reach()).
+  [[nodiscard]] bool held_back() const noexcept { return harmful() || beyond_reach(); }
 
   // Do no harm: innovations beyond the gate (innovation_gate σ) in more of the last
   // change_window + 3 assemblies than a change of velocity explains (its change_window assemblies
