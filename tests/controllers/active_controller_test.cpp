@@ -1,7 +1,9 @@
 #include "twincal/controllers/presets.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -249,6 +251,73 @@ TYPED_TEST(ActiveControllerTest, BoundsTheCorrectionRightAfterASurprise) {
   // An estimate given by restart() after the surprise is applied at once.
   const std::vector<VectorX> restarted = run(fraction, true);
   EXPECT_LT((restarted[13] - moved).cwiseAbs().maxCoeff(), 1e-8) << restarted[13].transpose();
+}
+
+// With hold_after_surprises (2 by default), the estimate is not applied while that many of the
+// last change_window + 3 = 5 assemblies were surprises the refit does not explain. Here one
+// answer of the plant comes from an offset moved by 0.6 on every locator (assembly 10), among
+// answers from the offset the controller was restarted at: it surprises, and so does the next
+// assembly, whose estimate it pulled away. Proposal 12 then holds the estimate back where the
+// controller without the rule applies it, and every proposal after two surprises within five
+// does; once they leave the ring the estimate is applied again. A snapshot taken while it is
+// held back holds it back once restored, and an estimate given by restart() is applied at once.
+TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises) {
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
+  const CountingTwin counting(twin);
+  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
+  const auto options = [](Index hold) {
+    return ActiveOptions{.max_probe_fraction = 1e-9, .hold_after_surprises = hold};
+  };
+  const auto assembly = [&](int t) {
+    return assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+  };
+  struct Run {
+    std::vector<bool> corrected;  // by proposal
+    std::vector<bool> surprised;  // by observation
+    nlohmann::json before_12;     // the state after observation 11
+  };
+  const auto run = [&](Index hold) {
+    TypeParam controller(counting, RandomStream(12), options(hold));
+    controller.restart(offset, identity * 1e-6);
+    Run result;
+    for (int t = 0; t < 19; ++t) {
+      if (t == 12) result.before_12 = controller.save();
+      const VectorX u = controller.propose(assembly(t));
+      result.corrected.push_back(controller.last_step().corrected);
+      const VectorX plant_offset = t == 10 ? VectorX(offset.array() + 0.6) : offset;
+      controller.observe(assembly(t), u, twin.quality(assembly(t), VectorX(u - plant_offset)));
+      const ActiveStepReport& step = controller.last_step();
+      result.surprised.push_back(step.normalized_innovation > 25.0 &&
+                                 step.normalized_residual > 1.0);
+    }
+    return result;
+  };
+  const Run by_default = run(ActiveOptions{}.hold_after_surprises);
+  const Run never = run(0);
+  for (std::size_t t = 0; t < 12; ++t) {
+    EXPECT_TRUE(by_default.corrected[t] && never.corrected[t]) << "proposal " << t;
+    EXPECT_EQ(by_default.surprised[t], t >= 10) << "assembly " << t;
+  }
+  EXPECT_FALSE(by_default.corrected[12]);
+  EXPECT_TRUE(never.corrected[12]);
+  for (std::size_t t = 12; t < 19; ++t) {
+    const auto surprises =
+        std::count(by_default.surprised.begin() + static_cast<std::ptrdiff_t>(t) - 5,
+                   by_default.surprised.begin() + static_cast<std::ptrdiff_t>(t), true);
+    if (surprises >= 2) EXPECT_FALSE(by_default.corrected[t]) << "proposal " << t;
+  }
+  EXPECT_TRUE(by_default.corrected[18]);
+
+  TypeParam restored(counting, RandomStream(12), options(2));
+  restored.restore(by_default.before_12);
+  (void)restored.propose(assembly(12));
+  EXPECT_FALSE(restored.last_step().corrected);
+  restored.restore(by_default.before_12);
+  restored.restart(offset, identity * 1e-6);
+  (void)restored.propose(assembly(12));
+  EXPECT_TRUE(restored.last_step().corrected);
 }
 
 TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {
@@ -586,6 +655,9 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
             "correction_step_fraction: value is -0.1; rule: must be finite and >= 0");
   EXPECT_EQ(ActiveOptions{.surprise_step_fraction = -0.25}.validate(),
             "surprise_step_fraction: value is -0.25; rule: must be finite and >= 0");
+  EXPECT_EQ(ActiveOptions{.hold_after_surprises = 6}.validate(),
+            "hold_after_surprises: value is 6; rule: must lie in [0, trajectory.change_window + "
+            "3] = [0, 5]");
   EXPECT_EQ(ActiveOptions{.surrogate = {.tolerance = 0.0}}.validate(),
             "surrogate.tolerance: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),
@@ -722,6 +794,14 @@ TEST(ActiveController, RefusesABadSnapshotAndKeepsItsState) {
   EXPECT_THROW(tried.restore(bad), NonFiniteError);
   bad = good;
   bad["recent_innovations"].erase(0);  // a ring of another size
+  EXPECT_THROW(tried.restore(bad), DimensionMismatchError);
+  bad = good;
+  bad["recent_surprises"][2] = 1;  // not a boolean
+  EXPECT_THAT([&] { tried.restore(bad); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  ::testing::HasSubstr("recent_surprises[2]: is 1; rule: must be true or false")));
+  bad = good;
+  bad["recent_surprises"].erase(0);
   EXPECT_THROW(tried.restore(bad), DimensionMismatchError);
   bad = good;
   bad["plant_regrets"].erase(0);

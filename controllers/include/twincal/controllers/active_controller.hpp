@@ -21,7 +21,8 @@
 ///      estimate beyond that reach is not applied: ActiveOptions::clamp_beyond_reach); right
 ///      after a surprise (a z the estimate neither predicted nor explains once refitted) it
 ///      moves at most ActiveOptions::surprise_step_fraction of the box from the last one applied
-///      (always, with correction_step_fraction);
+///      (always, with correction_step_fraction), and after hold_after_surprises such surprises
+///      within a few assemblies it is not applied;
 ///   5. observe: z_t joins the estimator's history (or updates the random-walk filter, with an
 ///      innovation gate that inflates an overconfident P, process noise adapted to the
 ///      normalized innovations, and a floor and a ceiling on P's eigenvalues).
@@ -149,6 +150,7 @@ class ActiveCalibrationController {
     check_points_.resize(d, 2);
     recent_innovations_.assign(static_cast<std::size_t>(options_.trajectory.change_window) + 3,
                                0.0);
+    recent_surprises_.assign(recent_innovations_.size(), false);
     plant_regrets_.assign(static_cast<std::size_t>(options_.regret_window), 0.0);
     regret_order_ = plant_regrets_;
     if constexpr (TwinWithKeptAssemblies<T>) {
@@ -318,7 +320,8 @@ class ActiveCalibrationController {
     require_positive_definite("covariance", covariance);
     estimator_.reset(assemblies_, estimate, covariance);
     restarted_ = true;   // an estimate given from outside is applied without waiting for evidence
-    surprised_ = false;  // nor bounded by what surprised the estimate it replaces
+    surprised_ = false;  // nor bounded or held back by what surprised the estimate it replaces
+    std::fill(recent_surprises_.begin(), recent_surprises_.end(), false);
     mean_ = estimate;
     covariance_ = covariance;
     pending_ = false;
@@ -343,9 +346,10 @@ class ActiveCalibrationController {
   /// retry of the quadratic model); the pending proposal (u_t, whether its model held, the
   /// model, which observe updates with), the correction last applied and whether the last
   /// assembly surprised (ActiveOptions::surprise_step_fraction); the do-no-harm rings
-  /// (normalized innovations, the audit's regrets and counts); the plant's last regrets, which
-  /// price the probe; the assemblies kept for relinearization, with their checks (ε, for the τ² of
-  /// their refits); and the last proposal's reports. Not the workspaces (sigma points, check
+  /// (normalized innovations and which of them were unexplained surprises, the audit's regrets
+  /// and counts); the plant's last regrets, which price the probe; the assemblies kept for
+  /// relinearization, with their checks (ε, for the τ² of their refits); and the last proposal's
+  /// reports. Not the workspaces (sigma points, check
   /// points, the eigensolver of the covariance bound, the relinearization candidates), which are
   /// rewritten before they are read, nor the settings derived from the twin's box.
   [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
@@ -367,6 +371,7 @@ class ActiveCalibrationController {
                          {"applied_correction", doubles_to_json(applied_correction_)},
                          {"model", json_state::model_to_json(model_)},
                          {"recent_innovations", doubles_to_json(recent_innovations_)},
+                         {"recent_surprises", recent_surprises_},
                          {"innovation_count", innovation_count_},
                          {"plant_regrets", doubles_to_json(plant_regrets_)},
                          {"regret_count", regret_count_},
@@ -423,6 +428,8 @@ class ActiveCalibrationController {
     std::vector<double> recent_innovations = recent_innovations_;
     json_state::read_doubles(field(saved, "recent_innovations"), "recent_innovations",
                              recent_innovations);
+    std::vector<bool> recent_surprises = recent_surprises_;
+    json_state::read_bools(field(saved, "recent_surprises"), "recent_surprises", recent_surprises);
     const auto innovation_count =
         static_cast<std::size_t>(json_state::read_count(saved, "innovation_count"));
     std::vector<double> plant_regrets = plant_regrets_;
@@ -493,6 +500,7 @@ class ActiveCalibrationController {
     applied_correction_ = applied_correction;
     model_ = std::move(model);
     recent_innovations_.swap(recent_innovations);
+    recent_surprises_.swap(recent_surprises);
     innovation_count_ = innovation_count;
     plant_regrets_.swap(plant_regrets);
     regret_count_ = regret_count;
@@ -699,6 +707,7 @@ class ActiveCalibrationController {
     surprised_ =
         step_.normalized_innovation > options_.innovation_gate * options_.innovation_gate &&
         step_.normalized_residual > 1.0;
+    recent_surprises_[(innovation_count_ - 1) % recent_surprises_.size()] = surprised_;
     step_.misfit_scale = estimator_.misfit_scale();
     step_.prediction_scale = estimator_.prediction_scale();
     step_.history = estimator_.history_size();
@@ -783,8 +792,11 @@ class ActiveCalibrationController {
   }
 
   // The estimate is not applied where a do-no-harm rule holds it back: the plant keeps
-  // surprising it (harmful()), or it lies beyond the correction's reach (beyond_reach()).
-  [[nodiscard]] bool held_back() const noexcept { return harmful() || beyond_reach(); }
+  // surprising it (harmful()), with surprises no refit explains (unexplained()), or it lies
+  // beyond the correction's reach (beyond_reach()).
+  [[nodiscard]] bool held_back() const noexcept {
+    return harmful() || unexplained() || beyond_reach();
+  }
 
   // Do no harm: innovations beyond the gate (innovation_gate σ) in more of the last
   // change_window + 3 assemblies than a change of velocity explains (its change_window assemblies
@@ -797,6 +809,15 @@ class ActiveCalibrationController {
     std::size_t beyond = 0;
     for (std::size_t i = 0; i < kept; ++i) beyond += recent_innovations_[i] > gate2 ? 1U : 0U;
     return beyond >= static_cast<std::size_t>(options_.trajectory.change_window) + 2;
+  }
+
+  // At least hold_after_surprises of the last change_window + 3 assemblies surprised the estimate
+  // and stayed unexplained by its refit (ActiveOptions::hold_after_surprises): the twin does not
+  // explain the plant there, whatever the estimate.
+  [[nodiscard]] bool unexplained() const noexcept {
+    if (options_.hold_after_surprises <= 0) return false;
+    const auto count = std::count(recent_surprises_.begin(), recent_surprises_.end(), true);
+    return count >= options_.hold_after_surprises;
   }
 
   // An estimate beyond the correction's reach (|δû_i| > max_offset_ on some locator) is far
@@ -923,6 +944,7 @@ class ActiveCalibrationController {
   std::size_t regret_count_ = 0;
   std::vector<double> regret_order_;
   std::vector<double> recent_innovations_;  // ν²/S of the last change_window + 3 (a ring)
+  std::vector<bool> recent_surprises_;      // whether each of them surprised_ (the same ring)
   std::size_t innovation_count_ = 0;
   bool quadratic_ = false;
   bool pending_ = false;

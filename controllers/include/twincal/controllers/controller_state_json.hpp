@@ -177,6 +177,19 @@ inline void read_doubles(const nlohmann::json& value, std::string_view name,
   }
 }
 
+/// An array of out.size() booleans into `out` (already sized).
+inline void read_bools(const nlohmann::json& value, std::string_view name, std::vector<bool>& out) {
+  require_array(value, name, std::ssize(out));
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (!value[i].is_boolean()) {
+      throw InvalidArgumentError(
+          fmt::format("{}[{}]", name, i),
+          fmt::format("{}[{}]: is {}; rule: must be true or false", name, i, value[i].dump()));
+    }
+    out[i] = value[i].get<bool>();
+  }
+}
+
 /// An array of out.cols() columns of out.rows() doubles into `out` (already sized).
 template <typename Derived>
 void read_matrix(const nlohmann::json& value, std::string_view name, Eigen::DenseBase<Derived>& out,

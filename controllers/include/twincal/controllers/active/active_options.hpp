@@ -88,6 +88,16 @@ struct ActiveOptions {
   /// moves no further than the controller explores anyway. Measured on 2026-11-29
   /// (docs/reproduction.md, "A bound on the correction after a surprise").
   double surprise_step_fraction = 0.25;
+  /// The estimate is not applied (the control is u0 + p, as for an estimate that is not
+  /// significant) while at least hold_after_surprises of the last trajectory.change_window + 3
+  /// assemblies were such surprises — a z beyond innovation_gate before the fit that the refit
+  /// does not explain either (0: never held back for them). A turn of the drift on a plant that
+  /// is its twin surprises once and the refit explains it; a plant that is not the twin keeps
+  /// answering in ways no refit of the twin explains, and there a correction can cost more than
+  /// u0 does. The innovations alone (harmful(): four of those five beyond the gate) come too late
+  /// there, and three or two of five cost twins that are their own plant. Measured on 2026-11-30
+  /// (docs/reproduction.md, "Holding the correction back after unexplained surprises").
+  Index hold_after_surprises = 2;
   /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
   /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;
@@ -225,6 +235,11 @@ struct ActiveOptions {
          rule::in_closed("max_offset_fraction", max_offset_fraction, 0.0, 1.0),
          rule::non_negative_finite("correction_step_fraction", correction_step_fraction),
          rule::non_negative_finite("surprise_step_fraction", surprise_step_fraction),
+         rule::check(
+             0 <= hold_after_surprises && hold_after_surprises <= trajectory.change_window + 3,
+             "hold_after_surprises", hold_after_surprises,
+             "must lie in [0, trajectory.change_window + 3] = [0, {}]",
+             trajectory.change_window + 3),
          rule::positive_finite("innovation_gate", innovation_gate),
          rule::positive_finite("covariance_floor", covariance_floor),
          rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
