@@ -263,7 +263,8 @@ class ActiveCalibrationController {
     step_.corrected = !quadratic_ || estimator_.significant() || restarted_;
     // Do no harm: an estimate that keeps failing to predict the plant (a model that errs, or a
     // plant that is not the twin) is not applied (the control falls back to u0 + p) until it
-    // predicts again; nor is one beyond the correction's reach.
+    // predicts again; nor is one after surprises no refit explains, or beyond the correction's
+    // reach (held_back()).
     const bool wanted = step_.corrected;
     if (quadratic_ && held_back()) step_.corrected = false;
     if (options_.fit_at_audited_arm) {
@@ -349,9 +350,9 @@ class ActiveCalibrationController {
   /// (normalized innovations and which of them were unexplained surprises, the audit's regrets
   /// and counts); the plant's last regrets, which price the probe; the assemblies kept for
   /// relinearization, with their checks (ε, for the τ² of their refits); and the last proposal's
-  /// reports. Not the workspaces (sigma points, check
-  /// points, the eigensolver of the covariance bound, the relinearization candidates), which are
-  /// rewritten before they are read, nor the settings derived from the twin's box.
+  /// reports. Not the workspaces (sigma points, check points, the eigensolver of the covariance
+  /// bound, the relinearization candidates), which are rewritten before they are read, nor the
+  /// settings derived from the twin's box.
   [[nodiscard]] nlohmann::json save() const requires SnapshotProbe<Probe> {
     using json_state::doubles_to_json;
     using json_state::number_to_json;

@@ -77,15 +77,19 @@ enum class Values { finite, any };
   return read_double(field(saved, name), name, values);
 }
 
-/// The boolean field `name`.
-[[nodiscard]] inline bool read_bool(const nlohmann::json& saved, std::string_view name) {
-  const nlohmann::json& value = field(saved, name);
+/// A boolean `value` named `name`.
+[[nodiscard]] inline bool read_boolean(const nlohmann::json& value, std::string_view name) {
   if (!value.is_boolean()) {
     throw InvalidArgumentError(
         std::string(name),
         fmt::format("{}: is {}; rule: must be true or false", name, value.dump()));
   }
   return value.get<bool>();
+}
+
+/// The boolean field `name`.
+[[nodiscard]] inline bool read_bool(const nlohmann::json& saved, std::string_view name) {
+  return read_boolean(field(saved, name), name);
 }
 
 /// An integer in [low, high].
@@ -181,12 +185,7 @@ inline void read_doubles(const nlohmann::json& value, std::string_view name,
 inline void read_bools(const nlohmann::json& value, std::string_view name, std::vector<bool>& out) {
   require_array(value, name, std::ssize(out));
   for (std::size_t i = 0; i < out.size(); ++i) {
-    if (!value[i].is_boolean()) {
-      throw InvalidArgumentError(
-          fmt::format("{}[{}]", name, i),
-          fmt::format("{}[{}]: is {}; rule: must be true or false", name, i, value[i].dump()));
-    }
-    out[i] = value[i].get<bool>();
+    out[i] = read_boolean(value[i], fmt::format("{}[{}]", name, i));
   }
 }
 
