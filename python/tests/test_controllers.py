@@ -304,6 +304,9 @@ def test_the_active_controller_reports_its_last_step():
     assert np.isfinite(step["change_ratio"])
     assert (step["change_ratio"] > 1.0) == step["velocity_change"]
     assert isinstance(step["corrected"], bool)
+    # A wanted correction is applied exactly when no do-no-harm rule or audit held it back.
+    holds = ("held_by_innovations", "held_by_surprises", "held_beyond_reach", "held_by_audit")
+    assert step["corrected"] == (step["correction_wanted"] and not any(step[k] for k in holds))
     assert not hasattr(twincal.PaperController(twin), "last_step")
 
 

@@ -47,6 +47,14 @@ using ActiveControllers =
                                                  SimplexSigmaPoints>>;
 TYPED_TEST_SUITE(ActiveControllerTest, ActiveControllers);
 
+// A wanted correction is applied exactly when no reason to hold it back is set.
+void expect_holds_explain_the_control(const ActiveStepReport& step, int t) {
+  const bool held = step.held_by_innovations || step.held_by_surprises || step.held_beyond_reach ||
+                    step.held_by_audit;
+  EXPECT_EQ(step.corrected, step.correction_wanted && !held) << "proposal " << t;
+  EXPECT_TRUE(!step.held_by_audit || step.audited) << "proposal " << t;
+}
+
 // Runs `steps` assemblies of the plant Q(x, u − δu*) with a constant offset; returns the final
 // estimation error and checks every control against the twin's bounds widened by the largest
 // correction (ActiveOptions::max_offset_fraction of the box width).
@@ -177,8 +185,10 @@ TYPED_TEST(ActiveControllerTest, LeavesAnEstimateBeyondTheCorrectionsReachUnappl
     controller.restart(estimate,
                        SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
     const VectorX u = controller.propose(x);
-    return std::pair{applied_correction(controller, u, lower, upper),
-                     controller.last_step().corrected};
+    const ActiveStepReport& step = controller.last_step();
+    expect_holds_explain_the_control(step, 0);
+    EXPECT_EQ(step.held_beyond_reach, !clamp && (estimate.array().abs() > reach.array()).any());
+    return std::pair{applied_correction(controller, u, lower, upper), step.corrected};
   };
   const VectorX within = reach.cwiseProduct(Eigen::Vector3d(0.9, -0.5, 0.2));
   VectorX beyond = within;
@@ -274,9 +284,10 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
     return assemblies[static_cast<std::size_t>(t) % assemblies.size()];
   };
   struct Run {
-    std::vector<bool> corrected;  // by proposal
-    std::vector<bool> surprised;  // by observation
-    nlohmann::json before_12;     // the state after observation 11
+    std::vector<bool> corrected;          // by proposal
+    std::vector<bool> held_by_surprises;  // by proposal
+    std::vector<bool> surprised;          // by observation
+    nlohmann::json before_12;             // the state after observation 11
   };
   const auto run = [&](Index hold) {
     TypeParam controller(counting, RandomStream(12), options(hold));
@@ -286,6 +297,8 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
       if (t == 12) result.before_12 = controller.save();
       const VectorX u = controller.propose(assembly(t));
       result.corrected.push_back(controller.last_step().corrected);
+      result.held_by_surprises.push_back(controller.last_step().held_by_surprises);
+      expect_holds_explain_the_control(controller.last_step(), t);
       const VectorX plant_offset = t == 10 ? VectorX(offset.array() + 0.6) : offset;
       controller.observe(assembly(t), u, twin.quality(assembly(t), VectorX(u - plant_offset)));
       const ActiveStepReport& step = controller.last_step();
@@ -298,6 +311,7 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
   const Run never = run(0);
   for (std::size_t t = 0; t < 12; ++t) {
     EXPECT_TRUE(by_default.corrected[t] && never.corrected[t]) << "proposal " << t;
+    EXPECT_FALSE(by_default.held_by_surprises[t]) << "proposal " << t;
     EXPECT_EQ(by_default.surprised[t], t >= 10) << "assembly " << t;
   }
   EXPECT_FALSE(by_default.corrected[12]);
@@ -306,9 +320,15 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
     const auto surprises =
         std::count(by_default.surprised.begin() + static_cast<std::ptrdiff_t>(t) - 5,
                    by_default.surprised.begin() + static_cast<std::ptrdiff_t>(t), true);
-    if (surprises >= 2) EXPECT_FALSE(by_default.corrected[t]) << "proposal " << t;
+    if (surprises >= 2) {
+      EXPECT_FALSE(by_default.corrected[t]) << "proposal " << t;
+      EXPECT_TRUE(by_default.held_by_surprises[t]) << "proposal " << t;
+    }
   }
   EXPECT_TRUE(by_default.corrected[18]);
+  EXPECT_FALSE(by_default.held_by_surprises[18]);
+  EXPECT_TRUE(std::none_of(never.held_by_surprises.begin(), never.held_by_surprises.end(),
+                           [](bool held) { return held; }));
 
   TypeParam restored(counting, RandomStream(12), options(2));
   restored.restore(by_default.before_12);
@@ -509,9 +529,12 @@ TEST(ActiveController, RefitsTheModelsTheFitMovesBeyondTheirReach) {
 }
 
 // Do no harm, measured: a plant that punishes every move away from u0 (the correction costs
-// more than it saves) gets, once the audit has compared the two arms, corrections only at the
-// audit's own assemblies (every audit_period-th), whether it picks its arm before the model's
-// fit or after; with the audit off no assembly is audited.
+// more than it saves) gets corrections only at the audit's own assemblies (every
+// audit_period-th), whether it picks its arm before the model's fit or after; with the audit off
+// no assembly is audited. The step reports say who held the rest back: on this plant the rules
+// (innovations beyond the gate, unexplained surprises, an estimate beyond reach) hold most of
+// them before the audit's verdict is asked, and the audit counts them in its uncorrected arm
+// (the verdicts alone: do_no_harm_audit_test.cpp).
 TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
@@ -524,13 +547,16 @@ TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
     int corrected = 0;
     int audited = 0;
     int corrected_unaudited = 0;
+    int held_by_audit = 0;
     for (int t = 0; t < 120; ++t) {
       const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
       const VectorX u = controller.propose(x);
       const double z = twin.quality(x, VectorX(u - offset)) + 5.0 * (u - twin.optimum(x)).norm();
       controller.observe(x, u, z);
       const ActiveStepReport& step = controller.last_step();
+      expect_holds_explain_the_control(step, t);
       audited += step.audited ? 1 : 0;
+      held_by_audit += step.held_by_audit ? 1 : 0;
       if (t >= 60) {
         corrected += step.corrected ? 1 : 0;
         corrected_unaudited += step.corrected && !step.audited ? 1 : 0;
@@ -542,6 +568,7 @@ TEST(ActiveController, AuditsItsCorrectionAndDropsOneThatDoesHarm) {
       EXPECT_EQ(corrected_unaudited, 0);
     } else {
       EXPECT_EQ(audited, 0);
+      EXPECT_EQ(held_by_audit, 0);
     }
   }
 }

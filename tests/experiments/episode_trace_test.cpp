@@ -59,8 +59,9 @@ TEST(EpisodeTrace, IsTheEpisodeOfRunEpisodeWithOneRowPerAssembly) {
   ASSERT_EQ(lines.size(), static_cast<std::size_t>(traced.steps) + 1);
   const std::vector<std::string> header = split(lines[0], ',');
   EXPECT_EQ(lines[0].rfind(episode_trace_columns, 0), 0U) << lines[0];
-  for (const char* key : {"change_ratio", "misfit_scale", "prediction_scale", "velocity_change",
-                          "corrected", "model_error", "probe_norm", "normalized_residual"}) {
+  for (const char* key :
+       {"change_ratio", "misfit_scale", "prediction_scale", "velocity_change", "corrected",
+        "held_by_surprises", "held_by_audit", "model_error", "probe_norm", "normalized_residual"}) {
     (void)column(header, key);
   }
   for (Index t = 0; t < traced.steps; ++t) {

@@ -30,6 +30,11 @@ ActiveStepReport filled_report() {
           .misfit_scale = 57.5,
           .prediction_scale = 2.25,
           .history = 25,
+          .correction_wanted = true,
+          .held_by_innovations = true,
+          .held_by_surprises = true,
+          .held_beyond_reach = true,
+          .held_by_audit = true,
           .corrected = true,
           .audited = true};
 }
@@ -43,7 +48,7 @@ void expect_same(const ActiveStepReport& read, const ActiveStepReport& written) 
 TEST(ActiveStepReport, ReadsBackEveryFieldThroughJsonText) {
   const ActiveStepReport written = filled_report();
   const nlohmann::json json = nlohmann::json::parse(active_step_report_to_json(written).dump());
-  EXPECT_EQ(json.size(), 18U) << "one key per field";
+  EXPECT_EQ(json.size(), 23U) << "one key per field";
   EXPECT_EQ(json["normalized_innovation"], "inf");
   expect_same(read_active_step_report(json), written);
 }

@@ -265,14 +265,21 @@ class ActiveCalibrationController {
     // plant that is not the twin) is not applied (the control falls back to u0 + p) until it
     // predicts again; nor is one after surprises no refit explains, or beyond the correction's
     // reach (held_back()).
-    const bool wanted = step_.corrected;
-    if (quadratic_ && held_back()) step_.corrected = false;
+    step_.correction_wanted = step_.corrected;
+    if (quadratic_) {
+      step_.held_by_innovations = harmful();
+      step_.held_by_surprises = unexplained();
+      step_.held_beyond_reach = beyond_reach();
+      if (held_back()) step_.corrected = false;
+    }
+    const bool held_by_rule = step_.correction_wanted && !step_.corrected;
     if (options_.fit_at_audited_arm) {
       step_.audited = quadratic_ && audited_arm_.has_value();
       if (step_.audited) step_.corrected = step_.corrected && *audited_arm_;
     } else {
-      audit(wanted);
+      audit(step_.correction_wanted);
     }
+    step_.held_by_audit = step_.correction_wanted && !held_by_rule && !step_.corrected;
     control_ =
         (center_ + probe_vector_).cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
     if (step_.corrected) {

@@ -43,8 +43,22 @@ struct ActiveStepReport {
   /// How badly the estimator predicts the plant (ConstantVelocityEstimator::prediction_scale()):
   /// the do-no-harm audit doubts the estimate from audit_misfit on. NaN in sigma-point mode.
   double prediction_scale = std::numeric_limits<double>::quiet_NaN();
-  Index history = 0;       ///< assemblies in the estimator's history
-  bool corrected = false;  ///< the control applied δû (the offset was significant)
+  Index history = 0;  ///< assemblies in the estimator's history
+  /// The controller meant to apply δû: always in sigma-point mode; with the twin's model, where
+  /// the estimator's history shows the offset significantly or a restart set it.
+  bool correction_wanted = false;
+  // Why δû was not applied: one flag per do-no-harm rule (docs/controllers.md, "do no harm"),
+  // set with the twin's model whether or not δû was wanted, and one for the audit. A wanted δû
+  // is applied exactly when none of the four is set.
+  /// The plant keeps surprising the estimate: innovations beyond the gate in most recent steps.
+  bool held_by_innovations = false;
+  /// Surprises that the refit did not explain (ActiveOptions::hold_after_surprises).
+  bool held_by_surprises = false;
+  /// The estimate lies beyond the correction's reach (ActiveOptions::clamp_beyond_reach).
+  bool held_beyond_reach = false;
+  /// No rule held a wanted δû back, but the audit counted the assembly in its uncorrected arm.
+  bool held_by_audit = false;
+  bool corrected = false;  ///< the control applied δû
   bool audited = false;    ///< this assembly counts in the do-no-harm audit
 };
 
@@ -67,6 +81,11 @@ struct ActiveStepReport {
           {"misfit_scale", number_to_json(step.misfit_scale)},
           {"prediction_scale", number_to_json(step.prediction_scale)},
           {"history", step.history},
+          {"correction_wanted", step.correction_wanted},
+          {"held_by_innovations", step.held_by_innovations},
+          {"held_by_surprises", step.held_by_surprises},
+          {"held_beyond_reach", step.held_beyond_reach},
+          {"held_by_audit", step.held_by_audit},
           {"corrected", step.corrected},
           {"audited", step.audited}};
 }
@@ -94,6 +113,11 @@ struct ActiveStepReport {
   step.misfit_scale = read_double_field(saved, "misfit_scale", Values::any);
   step.prediction_scale = read_double_field(saved, "prediction_scale", Values::any);
   step.history = json_state::read_integer_field(saved, "history", 0);
+  step.correction_wanted = read_bool(saved, "correction_wanted");
+  step.held_by_innovations = read_bool(saved, "held_by_innovations");
+  step.held_by_surprises = read_bool(saved, "held_by_surprises");
+  step.held_beyond_reach = read_bool(saved, "held_beyond_reach");
+  step.held_by_audit = read_bool(saved, "held_by_audit");
   step.corrected = read_bool(saved, "corrected");
   step.audited = read_bool(saved, "audited");
   return step;
