@@ -50,7 +50,8 @@ struct ActiveStepReport {
   // Why δû was not applied: one flag per do-no-harm rule (docs/controllers.md, "do no harm"),
   // set with the twin's model whether or not δû was wanted, and one for the audit. A wanted δû
   // is applied exactly when none of the four is set.
-  /// The plant keeps surprising the estimate: innovations beyond the gate in most recent steps.
+  /// The plant keeps surprising the estimate: innovations beyond the gate in at least
+  /// change_window + 2 of the last change_window + 3 assemblies.
   bool held_by_innovations = false;
   /// Surprises that the refit did not explain (ActiveOptions::hold_after_surprises).
   bool held_by_surprises = false;
