@@ -39,6 +39,11 @@ constexpr std::string_view usage = R"(usage: twincal_calculix_twin [options]
   --linear                  no contact, small displacements: a linear solve
   --influence               the linear model's influence coefficients: d + U + L linear solves
                             at start, then each Q without the solver (scanned parts: one solve)
+  --linearization small-displacement|secant   with --influence: the linear solve's coefficients
+                            (default), or secants of this twin's own solve (contact, large
+                            displacements) around the box's centre: 2d + 1 + U + L solves
+  --secant-step-fraction F  the secant's half step per locator, a fraction of its box width in
+                            (0, 0.5] (default 0.25)
   --nominal-gap MM          clearance between the sheets at nominal (default 0.02)
   --gap-stiffness N/MM      penalty of a closed gap (default 1e4)
   --locator-bound MM        locator box half-width (default 1)
@@ -58,6 +63,7 @@ struct Arguments {
   Index lower_parts = 10;
   bool describe = false;
   bool influence = false;
+  twincal::InfluenceCoefficientOptions influence_options;
   twincal::CalculixOptions options;
 };
 
@@ -104,6 +110,16 @@ Arguments parse_arguments(int argc, char** argv) {
       o.geometric_nonlinearity = false;
     } else if (option == "--influence") {
       arguments.influence = true;
+    } else if (option == "--linearization") {
+      const std::string_view text = value();
+      const std::optional<twincal::InfluenceLinearization> linearization =
+          twincal::parse_influence_linearization(text);
+      if (!linearization) {
+        refuse(fmt::format("{}: value is '{}'; rule: small-displacement or secant", option, text));
+      }
+      arguments.influence_options.linearization = *linearization;
+    } else if (option == "--secant-step-fraction") {
+      arguments.influence_options.secant_step_fraction = parse_number<double>(option, value());
     } else if (option == "--nominal-gap") {
       o.nominal_gap = parse_number<double>(option, value());
     } else if (option == "--gap-stiffness") {
@@ -131,6 +147,16 @@ Arguments parse_arguments(int argc, char** argv) {
     } else {
       refuse(fmt::format("unknown option '{}'", option));
     }
+  }
+  const bool linearization_given =
+      seen.count("--linearization") + seen.count("--secant-step-fraction") > 0;
+  if (linearization_given && !arguments.influence) {
+    refuse(
+        "--linearization and --secant-step-fraction: given without --influence; rule: they "
+        "choose how the influence map is built");
+  }
+  if (const std::optional<std::string> problem = arguments.influence_options.validate()) {
+    refuse(*problem);
   }
   return arguments;
 }
@@ -271,10 +297,10 @@ int main(int argc, char** argv) {
   if (arguments.influence) {
     try {
       const auto started = std::chrono::steady_clock::now();
-      influence.emplace(*twin);
+      influence.emplace(*twin, arguments.influence_options);
       std::cerr << fmt::format(
-          "twincal_calculix_twin: influence coefficients from {} linear solves in {:.2f} s\n",
-          influence->solver_runs(),
+          "twincal_calculix_twin: influence coefficients ({}) from {} solves in {:.2f} s\n",
+          twincal::to_string(arguments.influence_options.linearization), influence->solver_runs(),
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     } catch (const twincal::Error& error) {
       std::cerr << "twincal_calculix_twin: " << error.what() << "\n";
