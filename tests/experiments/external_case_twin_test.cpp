@@ -1,5 +1,6 @@
 #include "twincal/experiments/external_case_twin.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -455,6 +456,33 @@ TEST(ExternalCaseTwin, RunsOnTheBackendItsFactoryMakesAndSearchesOneAssemblyPerW
   twin.quality_batch({1, 2}, controls, out);
   EXPECT_EQ(made->batches_.load(), 1);
   EXPECT_GT(out.minCoeff(), 0.2);
+}
+
+// A sweep over twins against one slow plant: groups that differ only in their twin share the
+// plant a program of its own answers, so its assemblies' optima are searched once.
+TEST(ExternalCaseTwin, GroupsOfOnePlantProgramShareIt) {
+  std::vector<ExperimentGroup> groups(3);
+  for (ExperimentGroup& group : groups) {
+    group.config.twin_case = TwinCase::external;
+    group.config.external_twin = minimal_twin(1);
+    group.config.external_twin->command.emplace_back("--linear-map");
+    group.config.plant_external_twin = minimal_twin(1);
+    group.config.assemblies = 6;
+  }
+  groups[1].config.external_twin->command.back() = "--secant-map";
+  groups[2].config.plant_external_twin->command.emplace_back("--another-plant");
+  std::vector<std::vector<std::string>> made;
+  const std::vector<CaseTwin> twins =
+      make_case_twins(groups, [&](const ExternalTwinSettings& settings) {
+        made.push_back(settings.command);
+        return std::make_unique<FormulaBackend>(1);
+      });
+  ASSERT_EQ(twins.size(), 3U);
+  // Two twins (groups 0 and 2 share theirs), two plants (groups 0 and 1 share theirs).
+  EXPECT_EQ(made.size(), 4U);
+  EXPECT_EQ(std::count(made.begin(), made.end(), groups[0].config.plant_external_twin->command), 1);
+  EXPECT_EQ(&twins[0].full_twin().locator_names(), &twins[2].full_twin().locator_names());
+  EXPECT_NE(&twins[0].full_twin().locator_names(), &twins[1].full_twin().locator_names());
 }
 
 TEST(ExternalCaseTwin, RefusesAFactoryThatMakesNoBackend) {

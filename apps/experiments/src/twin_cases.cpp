@@ -242,7 +242,10 @@ std::vector<CaseTwin> make_case_twins(std::span<const ExperimentGroup> groups,
              : 0.0},
         {"plant_nonlinearity", config.plant_nonlinearity.has_value()}};
     const std::string key = twin_key.dump();
-    nlohmann::json plant_key = twin_key;
+    // A plant that is a program of its own does not depend on the twin: groups that differ
+    // only in their twin (a sweep over twins against one slow plant) share it and its searched
+    // optima. Every other plant is the twin's case changed.
+    nlohmann::json plant_key = config.plant_external_twin ? nlohmann::json::object() : twin_key;
     plant_key["plant_case"] =
         config.plant_case ? nlohmann::json(to_string(*config.plant_case)) : nlohmann::json(nullptr);
     plant_key["plant_nonlinearity"] = config.plant_nonlinearity
