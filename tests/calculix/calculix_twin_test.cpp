@@ -1,9 +1,13 @@
 #include "twincal/calculix/calculix_twin.hpp"
 
+#include <sys/wait.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -250,6 +254,33 @@ TEST(CalculixTwinProgram, ServesTheTwinThroughThePool) {
   } catch (const ExternalTwinError& error) {
     EXPECT_THAT(error.what(), HasSubstr("assembly.parts.upper: 3 values"));
   }
+}
+
+// The program's own arguments: the influence map's options are refused with their rule where
+// they would do nothing or are out of range, before anything is solved (exit status 2).
+TEST(CalculixTwinProgram, RefusesInfluenceOptionsItCannotHonour) {
+  const auto run = [](const std::string& arguments) {
+    const std::string command =
+        std::string(TWINCAL_CALCULIX_TWIN_PROGRAM) + " " + arguments + " 2>&1 </dev/null";
+    FILE* pipe = popen(command.c_str(), "r");
+    std::string output;
+    if (pipe == nullptr) return std::pair{-1, output};
+    char buffer[256];
+    while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+    const int status = pclose(pipe);
+    return std::pair{WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  };
+  const auto [alone, alone_output] = run("--layout lap-joint --linearization secant");
+  EXPECT_EQ(alone, 2);
+  EXPECT_THAT(alone_output, HasSubstr("given without --influence"));
+  const auto [unknown, unknown_output] = run("--influence --linearization tangent");
+  EXPECT_EQ(unknown, 2);
+  EXPECT_THAT(unknown_output,
+              HasSubstr("--linearization: value is 'tangent'; rule: small-displacement or secant"));
+  const auto [wide, wide_output] = run("--influence --secant-step-fraction 0.7");
+  EXPECT_EQ(wide, 2);
+  EXPECT_THAT(wide_output,
+              HasSubstr("secant_step_fraction: value is 0.7; rule: must lie in (0, 0.5]"));
 }
 
 }  // namespace
