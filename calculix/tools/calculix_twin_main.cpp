@@ -299,7 +299,7 @@ int main(int argc, char** argv) {
       const auto started = std::chrono::steady_clock::now();
       influence.emplace(*twin, arguments.influence_options);
       std::cerr << fmt::format(
-          "twincal_calculix_twin: influence coefficients ({}) from {} solves in {:.2f} s\n",
+          "twincal_calculix_twin: influence coefficients ({}) from {} CalculiX runs in {:.2f} s\n",
           twincal::to_string(arguments.influence_options.linearization), influence->solver_runs(),
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     } catch (const twincal::Error& error) {
