@@ -152,6 +152,7 @@ TEST(ExternalTwinSettings, GoWithTheExternalCaseAndOnlyWithIt) {
   config.twin_case = TwinCase::external;
   ExperimentConfig more_workers = config;
   more_workers.external_twin->workers = 7;
+  more_workers.external_twin->optima_file = "searched_once.json";  // where u0 is kept, likewise
   EXPECT_EQ(episode_defining_json(config), episode_defining_json(more_workers));
   more_workers.external_twin->command.back() = "other_twin.py";
   EXPECT_NE(episode_defining_json(config), episode_defining_json(more_workers));
@@ -317,6 +318,7 @@ TEST(ExternalTwinSettings, PlantExternalTwinIsTheSameCellMeasuredByAnotherProgra
   // Its pool's size does not define the episodes; its program does.
   ExperimentConfig other = config;
   other.plant_external_twin->workers = 5;
+  other.plant_external_twin->optima_file = "plant_optima.json";
   EXPECT_EQ(episode_defining_json(config), episode_defining_json(other));
   other.plant_external_twin->command.back() = "other_twin.py";
   EXPECT_NE(episode_defining_json(config), episode_defining_json(other));
@@ -361,6 +363,9 @@ TEST(ExternalTwinSettings, RoundTripsThroughJsonAndRefusesUnknownKeys) {
   from_json(nlohmann::json{{"startup_grace_ms", 60000}}, read);
   EXPECT_EQ(read.startup_grace_ms, 60000);
   EXPECT_EQ(nlohmann::json(read)["startup_grace_ms"], 60000);
+  from_json(nlohmann::json{{"optima_file", "plant_optima.json"}}, read);
+  EXPECT_EQ(read.optima_file, "plant_optima.json");
+  EXPECT_EQ(nlohmann::json(read)["optima_file"], "plant_optima.json");
   ExternalTwinSettings impatient = minimal_twin(1);
   ASSERT_FALSE(impatient.validate().has_value());
   impatient.startup_grace_ms = -1;
@@ -390,6 +395,7 @@ class FormulaBackend final : public ExternalTwinBackend {
   void quality_batch(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const override {
     batches_ += 1;
+    if (evaluations_ != nullptr) *evaluations_ += controls.cols();
     evaluate(assembly, controls, out);
   }
   void deviations_batch(const nlohmann::json&, const Eigen::Ref<const MatrixX>&,
@@ -404,11 +410,13 @@ class FormulaBackend final : public ExternalTwinBackend {
                             const Eigen::Ref<const MatrixX>& controls,
                             Eigen::Ref<VectorX> out) const override {
     per_worker_.at(static_cast<std::size_t>(worker)) += controls.cols();
+    if (evaluations_ != nullptr) *evaluations_ += controls.cols();
     evaluate(assembly, controls, out);
   }
 
   mutable std::vector<std::atomic<Index>> per_worker_;
   mutable std::atomic<Index> batches_{0};
+  std::atomic<Index>* evaluations_ = nullptr;  // also counts every evaluation, when set
 
  private:
   static void evaluate(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
@@ -483,6 +491,61 @@ TEST(ExternalCaseTwin, GroupsOfOnePlantProgramShareIt) {
   EXPECT_EQ(std::count(made.begin(), made.end(), groups[0].config.plant_external_twin->command), 1);
   EXPECT_EQ(&twins[0].full_twin().locator_names(), &twins[2].full_twin().locator_names());
   EXPECT_NE(&twins[0].full_twin().locator_names(), &twins[1].full_twin().locator_names());
+}
+
+// A slow program's search runs once per optima_file: the next twin of these settings reads it
+// and asks its program nothing, with every bit of the optima the same.
+TEST(ExternalCaseTwin, SearchesIntoItsOptimaFileOnceAndReadsItAfterwards) {
+  ExternalTwinSettings settings = minimal_twin(2);
+  settings.command = {"a-program-that-is-never-started"};
+  settings.optima_file =
+      (std::filesystem::path(::testing::TempDir()) / "twincal_case_twin_optima.json").string();
+  std::filesystem::remove(settings.optima_file);
+  std::atomic<Index> evaluations{0};
+  const auto factory = [&](const ExternalTwinSettings& given) {
+    auto backend = std::make_unique<FormulaBackend>(given.workers);
+    backend->evaluations_ = &evaluations;
+    return backend;
+  };
+  const ExternalCaseTwin searched(settings, factory);
+  EXPECT_FALSE(searched.optima_read());
+  EXPECT_GT(evaluations.load(), 6 * 300);
+  ASSERT_TRUE(std::filesystem::exists(settings.optima_file));
+
+  evaluations = 0;
+  settings.workers = 1;  // changes no result, so the file serves it
+  const ExternalCaseTwin read(settings, factory);
+  EXPECT_TRUE(read.optima_read());
+  EXPECT_EQ(evaluations.load(), 0);
+  EXPECT_EQ(read.search_evaluations(), searched.search_evaluations());
+  EXPECT_EQ(read.search_requests(), searched.search_requests());
+  for (const AssemblyId& x : searched.assemblies()) {
+    EXPECT_EQ(read.optimum(x), searched.optimum(x)) << fmt::format("{}", x);
+    EXPECT_EQ(read.optimal_quality(x), searched.optimal_quality(x)) << fmt::format("{}", x);
+  }
+
+  settings.optimum_local_evaluations = 200;  // another search: refused, not searched over
+  EXPECT_THROW(ExternalCaseTwin(settings, factory), InvalidArgumentError);
+  EXPECT_EQ(evaluations.load(), 0);
+}
+
+TEST(ExternalCaseTwin, RefusesAnOptimaFileItCannotWriteBeforeSearching) {
+  ExternalTwinSettings settings = minimal_twin(1);
+  settings.optima_file =
+      (std::filesystem::path(::testing::TempDir()) / "twincal_no_such_folder" / "optima.json")
+          .string();
+  std::atomic<Index> evaluations{0};
+  try {
+    const ExternalCaseTwin twin(settings, [&](const ExternalTwinSettings&) {
+      auto backend = std::make_unique<FormulaBackend>(1);
+      backend->evaluations_ = &evaluations;
+      return backend;
+    });
+    ADD_FAILURE() << "a twin with an optima_file in a missing folder was made";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("cannot be created"));
+  }
+  EXPECT_EQ(evaluations.load(), 0);
 }
 
 TEST(ExternalCaseTwin, RefusesAFactoryThatMakesNoBackend) {

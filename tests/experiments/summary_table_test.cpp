@@ -111,11 +111,18 @@ TEST(FormatOptimumSearches, OneLinePerGroupWhoseTwinSearchedU0) {
              {{"optimum_search",
                {{"evaluations_per_assembly", 338.0}, {"requests_per_assembly", 98.5}}}}}},
        json{{"name", "analytic/all"}, {"twin", {{"optimum_search", nullptr}}}},
+       json{{"name", "external/kept"},
+            {"twin",
+             {{"optimum_search",
+               {{"evaluations_per_assembly", 98.0},
+                {"requests_per_assembly", 98.0},
+                {"read_from_file", true}}}}}},
        json{{"name", "old"}, {"twin", {{"dimension", 3}}}}});
   const std::string text = format_optimum_searches(groups);
   EXPECT_EQ(text,
             "external/all: u0 searched in 338.0 twin evaluations per assembly (98.5 "
-            "requests)\n");
+            "requests)\nexternal/kept: u0 searched in 98.0 twin evaluations per assembly (98.0 "
+            "requests), read from its optima_file\n");
   EXPECT_EQ(format_optimum_searches(json::array()), "");
 }
 

@@ -347,21 +347,10 @@ nlohmann::json episode_defining_json(const ExperimentConfig& config) {
   json.erase("name");
   json.erase("runs");
   json.erase("controllers");
-  // The pool's size and patience do not change what an external twin answers.
-  for (const char* program : {"external_twin", "plant_external_twin"}) {
-    if (json.contains(program) && json[program].is_object()) {
-      json[program].erase("workers");
-      json[program].erase("timeout_ms");
-      json[program].erase("startup_grace_ms");
-      // The deviations and the restarts' seed matter only to a least-squares u0 search (and
-      // results stored before they existed stay the same group).
-      const nlohmann::json& settings = json[program];
-      if (settings.value("optimum_method", "") != "least_squares" ||
-          settings.value("optimum_budget", Index{0}) == 0) {
-        json[program].erase("key_points");
-        json[program].erase("optimum_seed");
-      }
-    }
+  // The pool's size and patience, and where searched optima are kept, change no episode.
+  if (config.external_twin) json["external_twin"] = result_defining_json(*config.external_twin);
+  if (config.plant_external_twin) {
+    json["plant_external_twin"] = result_defining_json(*config.plant_external_twin);
   }
   // An unset σz² and its case default give the same episodes.
   json["measurement_variance"] = config.filter_measurement_variance();

@@ -19,6 +19,7 @@
 #include "twincal/core/options.hpp"
 #include "twincal/core/random_stream.hpp"
 #include "twincal/core/validate.hpp"
+#include "twincal/experiments/searched_optima_file.hpp"
 
 namespace twincal {
 
@@ -76,6 +77,26 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings,
   const Index n = std::ssize(assemblies_);
   optima_.resize(control_dimension(), n);
   optimal_qualities_.resize(n);
+  if (settings.optima_file.empty()) {
+    search_pairs();
+    return;
+  }
+  if (std::optional<SearchedOptima> read = read_searched_optima(settings.optima_file, settings)) {
+    optima_ = std::move(read->controls);
+    optimal_qualities_ = std::move(read->qualities);
+    search_cost_ = {read->evaluations, read->requests};
+    optima_read_ = true;
+    return;
+  }
+  require_writable_optima_file(settings.optima_file);  // before the search, not after it
+  search_pairs();
+  write_searched_optima(
+      settings.optima_file, settings,
+      {optima_, optimal_qualities_, search_cost_.evaluations, search_cost_.requests});
+}
+
+void ExternalCaseTwin::search_pairs() {
+  const Index n = std::ssize(assemblies_);
   const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
   const auto from_centre = [&](const AssemblyId&) { return centre; };
   if (budget_ == 0) {

@@ -85,7 +85,23 @@ void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {
           {"optimum_budget", settings.optimum_budget},
           {"optimum_method", settings.optimum_method},
           {"optimum_seed", settings.optimum_seed},
-          {"key_points", settings.key_points}};
+          {"key_points", settings.key_points},
+          {"optima_file", settings.optima_file}};
+}
+
+nlohmann::json result_defining_json(const ExternalTwinSettings& settings) {
+  nlohmann::json json = settings;
+  json.erase("workers");
+  json.erase("timeout_ms");
+  json.erase("startup_grace_ms");
+  json.erase("optima_file");
+  // The deviations and the restarts' seed matter only to a least-squares u0 search (and
+  // results stored before they existed stay the same group).
+  if (settings.optimum_method != "least_squares" || settings.optimum_budget == 0) {
+    json.erase("key_points");
+    json.erase("optimum_seed");
+  }
+  return json;
 }
 
 void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
@@ -141,13 +157,15 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
         read.optimum_seed = strict_value<std::uint64_t>(value, field);
       } else if (key == "key_points") {
         read.key_points = strict_value<Index>(value, field);
+      } else if (key == "optima_file") {
+        read.optima_file = value.get<std::string>();
       } else {
         throw InvalidArgumentError(
             field, fmt::format("config: key \"{}\" is unknown; rule: must be one of [command, "
                                "locators, lower_bounds, upper_bounds, upper_parts, lower_parts, "
                                "workers, timeout_ms, startup_grace_ms, optimum_global_evaluations, "
                                "optimum_local_evaluations, optimum_budget, optimum_method, "
-                               "optimum_seed, key_points]",
+                               "optimum_seed, key_points, optima_file]",
                                field));
       }
     } catch (const nlohmann::json::exception& error) {

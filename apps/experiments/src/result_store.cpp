@@ -236,6 +236,7 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
     const auto searched = static_cast<double>(std::max<Index>(cost->assemblies, 1));
     search = {{"evaluations_per_assembly", static_cast<double>(cost->evaluations) / searched},
               {"requests_per_assembly", static_cast<double>(cost->requests) / searched}};
+    if (cost->read) search["read_from_file"] = true;
   }
   twin_json["optimum_search"] = search;
   groups_.push_back(json{{"name", name},

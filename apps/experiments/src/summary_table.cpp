@@ -135,9 +135,10 @@ std::string format_optimum_searches(const json& groups) {
   return lines_of_twin_field(
       groups, "optimum_search", [](const std::string& name, const json& search) {
         return fmt::format(
-            "{}: u0 searched in {:.1f} twin evaluations per assembly ({:.1f} requests)\n", name,
+            "{}: u0 searched in {:.1f} twin evaluations per assembly ({:.1f} requests){}\n", name,
             search.at("evaluations_per_assembly").get<double>(),
-            search.at("requests_per_assembly").get<double>());
+            search.at("requests_per_assembly").get<double>(),
+            search.value("read_from_file", false) ? ", read from its optima_file" : "");
       });
 }
 

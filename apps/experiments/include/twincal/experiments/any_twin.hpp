@@ -33,6 +33,9 @@ struct OptimumSearchCost {
   /// Calls of the twin: batches for the batched searches, one per evaluation otherwise.
   std::uint64_t requests = 0;
   Index assemblies = 0;
+  /// The optima were read from the file that search wrote (ExternalTwinSettings::optima_file):
+  /// the cost is the search's then, not this study's.
+  bool read = false;
 };
 
 class AnyTwin {
@@ -174,6 +177,7 @@ class AnyTwin {
                                .assemblies = std::ssize(twin.assemblies())};
         if constexpr (requires { twin.search_requests(); }) cost.requests = twin.search_requests();
         if constexpr (requires { twin.scanned_count(); }) cost.assemblies += twin.scanned_count();
+        if constexpr (requires { twin.optima_read(); }) cost.read = twin.optima_read();
         return cost;
       } else {
         return std::nullopt;

@@ -49,9 +49,11 @@ class ExternalCaseTwin {
   using Assembly = AssemblyId;
 
   /// Starts the workers (the backend that `backend` makes, by default an ExternalTwinPool) and
-  /// searches every assembly's optimum.
-  /// @throws InvalidArgumentError for invalid settings; ExternalTwinError when the program fails
-  ///         (after the pool's retry), naming the assembly whose search failed.
+  /// searches every assembly's optimum, or reads them from settings.optima_file when it exists
+  /// (and writes them there after the search when it does not).
+  /// @throws InvalidArgumentError for invalid settings, an optima_file that does not serve them
+  ///         or cannot be written (checked before the search); ExternalTwinError when the
+  ///         program fails (after the pool's retry), naming the assembly whose search failed.
   explicit ExternalCaseTwin(const ExternalTwinSettings& settings,
                             const ExternalTwinBackendFactory& backend = {});
 
@@ -97,7 +99,10 @@ class ExternalCaseTwin {
   [[nodiscard]] Index scanned_count() const noexcept { return std::ssize(scanned_parts_); }
   /// Every (upper, lower) pair, upper-major (the scanned assemblies are not listed).
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
-  /// Evaluations the optimum searches took, over all assemblies.
+  /// Whether the pairs' optima were read from settings.optima_file instead of searched.
+  [[nodiscard]] bool optima_read() const noexcept { return optima_read_; }
+  /// Evaluations the optimum searches took, over all assemblies (for optima read from a file,
+  /// what the search that wrote it took).
   [[nodiscard]] std::uint64_t search_evaluations() const noexcept {
     return search_cost_.evaluations;
   }
@@ -131,6 +136,8 @@ class ExternalCaseTwin {
   SearchCost search(Index worker, bool whole_pool, const nlohmann::json& assembly,
                     const VectorX& start, Index global_evaluations, Index local_evaluations,
                     Eigen::Ref<VectorX> optimum, double& quality) const;
+  // Searches every pair's optimum into optima_ and optimal_qualities_.
+  void search_pairs();
   // Searches the assemblies at `positions` (indices into assemblies_), one request in flight per
   // worker, each from start(assembly).
   template <typename Start>
@@ -150,6 +157,7 @@ class ExternalCaseTwin {
   MatrixX optima_;                             // d × (pairs + scanned)
   VectorX optimal_qualities_;                  // pairs + scanned
   SearchCost search_cost_;
+  bool optima_read_ = false;
 };
 
 static_assert(TwinWithOptimum<ExternalCaseTwin> && TwinWithDeviations<ExternalCaseTwin>);

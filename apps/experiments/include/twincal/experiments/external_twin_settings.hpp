@@ -11,7 +11,8 @@
 ///    "upper_parts": 10, "lower_parts": 10, "workers": 4, "timeout_ms": 10000,
 ///    "startup_grace_ms": 10000,
 ///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000,
-///    "optimum_budget": 0, "optimum_method": "bobyqa", "optimum_seed": 2023, "key_points": 0}
+///    "optimum_budget": 0, "optimum_method": "bobyqa", "optimum_seed": 2023, "key_points": 0,
+///    "optima_file": ""}
 
 #include <cstdint>
 #include <optional>
@@ -61,6 +62,12 @@ struct ExternalTwinSettings {
   /// m, the key points whose deviations r(x, u) the program answers when a request asks for
   /// them (Q = ‖r‖ / √m; docs/external.md); 0 for a program that answers qualities only.
   Index key_points = 0;
+  /// A file of the pairs' searched u0(x) and z*(x) (searched_optima_file.hpp; a path relative
+  /// to the working directory): read instead of searching when it exists — it must have been
+  /// searched under these settings —, written after the search when it does not. "" (the
+  /// default): search every time. A slow program's search then runs once per file rather than
+  /// once per study; delete the file when the program changes.
+  std::string optima_file;
 
   static constexpr Index max_parts = 10000;
   static constexpr Index max_key_points = 1000000;
@@ -69,6 +76,11 @@ struct ExternalTwinSettings {
 };
 
 void to_json(nlohmann::json& json, const ExternalTwinSettings& settings);
+/// The settings as JSON without the fields that change no result: the pool's size and patience
+/// (workers, timeout_ms, startup_grace_ms), optima_file, and key_points and optimum_seed unless
+/// the u0 search is a budgeted least-squares one. What identifies a group's episodes
+/// (experiment_config.hpp) and a file of searched optima (searched_optima_file.hpp).
+[[nodiscard]] nlohmann::json result_defining_json(const ExternalTwinSettings& settings);
 /// @throws InvalidArgumentError naming an unknown key or a value of the wrong type.
 void from_json(const nlohmann::json& json, ExternalTwinSettings& settings);
 
