@@ -84,6 +84,27 @@ TEST(ResultStore, RecordsWhatTheTwinsU0SearchCostPerAssembly) {
   EXPECT_DOUBLE_EQ(search.at("requests_per_assembly").get<double>(),
                    static_cast<double>(cost->requests) / assemblies);
   EXPECT_GT(search.at("evaluations_per_assembly").get<double>(), 100.0);  // NLopt: thousands
+  EXPECT_FALSE(search.contains("read_from_file"));
+  // The twin is its own plant: nothing more was searched.
+  EXPECT_TRUE(store.groups()[0].at("twin").at("plant_optimum_search").is_null());
+}
+
+TEST(ResultStore, RecordsWhatThePlantsOwnZStarSearchCostPerAssembly) {
+  const fs::path dir = store_scratch("RecordsWhatThePlantsOwnZStarSearchCostPerAssembly");
+  const auto config = nlohmann::json::parse(R"({"case": "analytic", "locators": "all",
+      "analytic_dimension": 2, "plant_nonlinearity": "contact", "controllers": ["baseline"]})")
+                          .get<ExperimentConfig>();
+  const CaseTwin twin = make_case_twin(config);
+  ASSERT_TRUE(twin.plant().has_value());
+  const std::optional<OptimumSearchCost> cost = twin.plant()->optimum_search();
+  ASSERT_TRUE(cost.has_value());
+  ResultStore store(dir);
+  store.add_group({config, nlohmann::json::object()}, twin);
+  const nlohmann::json& search = store.groups()[0].at("twin").at("plant_optimum_search");
+  EXPECT_DOUBLE_EQ(
+      search.at("evaluations_per_assembly").get<double>(),
+      static_cast<double>(cost->evaluations) / static_cast<double>(twin.assemblies().size()));
+  EXPECT_GT(search.at("evaluations_per_assembly").get<double>(), 100.0);
 }
 
 TEST_F(ResultStoreOfAnalyticGroup, RecordsTheLostRuleAndReadsItBackIdentically) {

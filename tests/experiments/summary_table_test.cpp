@@ -104,7 +104,7 @@ TEST(FormatDepartures, OneLinePerGroupWithARecordedDeparture) {
   EXPECT_EQ(format_departures(json::array()), "");
 }
 
-TEST(FormatOptimumSearches, OneLinePerGroupWhoseTwinSearchedU0) {
+TEST(FormatOptimumSearches, OneLinePerGroupWhoseTwinOrPlantSearchedU0) {
   const json groups = json::array(
       {json{{"name", "external/all"},
             {"twin",
@@ -116,13 +116,16 @@ TEST(FormatOptimumSearches, OneLinePerGroupWhoseTwinSearchedU0) {
              {{"optimum_search",
                {{"evaluations_per_assembly", 98.0},
                 {"requests_per_assembly", 98.0},
-                {"read_from_file", true}}}}}},
+                {"read_from_file", true}}},
+              {"plant_optimum_search",
+               {{"evaluations_per_assembly", 200.0}, {"requests_per_assembly", 100.0}}}}}},
        json{{"name", "old"}, {"twin", {{"dimension", 3}}}}});
   const std::string text = format_optimum_searches(groups);
   EXPECT_EQ(text,
             "external/all: u0 searched in 338.0 twin evaluations per assembly (98.5 "
             "requests)\nexternal/kept: u0 searched in 98.0 twin evaluations per assembly (98.0 "
-            "requests), read from its optima_file\n");
+            "requests), read from its optima_file\nexternal/kept: the plant's u0 searched in "
+            "200.0 twin evaluations per assembly (100.0 requests)\n");
   EXPECT_EQ(format_optimum_searches(json::array()), "");
 }
 

@@ -39,6 +39,18 @@ std::ofstream open_append(const fs::path& path) {
   return out;
 }
 
+// What searching u0 cost `model` per assembly (null where it knows its optima without a search),
+// and whether its optima were read from the file that search wrote.
+json optimum_search_json(const AnyTwin& model) {
+  const std::optional<OptimumSearchCost> cost = model.optimum_search();
+  if (!cost) return nullptr;
+  const auto searched = static_cast<double>(std::max<Index>(cost->assemblies, 1));
+  json search = {{"evaluations_per_assembly", static_cast<double>(cost->evaluations) / searched},
+                 {"requests_per_assembly", static_cast<double>(cost->requests) / searched}};
+  if (cost->read) search["read_from_file"] = true;
+  return search;
+}
+
 }  // namespace
 
 std::string csv_number(double value) {
@@ -230,15 +242,11 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
   twin_json["quadratic_departure"] = config.twin_case == TwinCase::external
                                          ? json(nullptr)
                                          : json(median_quadratic_departure(twin));
-  // What u0 cost where it is searched (the budget a real twin pays before the controller).
-  json search(nullptr);
-  if (const std::optional<OptimumSearchCost> cost = twin.full_twin().optimum_search()) {
-    const auto searched = static_cast<double>(std::max<Index>(cost->assemblies, 1));
-    search = {{"evaluations_per_assembly", static_cast<double>(cost->evaluations) / searched},
-              {"requests_per_assembly", static_cast<double>(cost->requests) / searched}};
-    if (cost->read) search["read_from_file"] = true;
-  }
-  twin_json["optimum_search"] = search;
+  // What u0 cost where it is searched (the budget a real twin pays before the controller), and
+  // what the plant's z* cost where the plant is another program.
+  twin_json["optimum_search"] = optimum_search_json(twin.full_twin());
+  twin_json["plant_optimum_search"] =
+      twin.plant() ? optimum_search_json(*twin.plant()) : json(nullptr);
   groups_.push_back(json{{"name", name},
                          {"config", config},
                          {"tags", group.tags},

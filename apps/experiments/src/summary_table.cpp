@@ -132,14 +132,26 @@ std::string format_departures(const json& groups) {
 }
 
 std::string format_optimum_searches(const json& groups) {
-  return lines_of_twin_field(
-      groups, "optimum_search", [](const std::string& name, const json& search) {
-        return fmt::format(
-            "{}: u0 searched in {:.1f} twin evaluations per assembly ({:.1f} requests){}\n", name,
-            search.at("evaluations_per_assembly").get<double>(),
-            search.at("requests_per_assembly").get<double>(),
-            search.value("read_from_file", false) ? ", read from its optima_file" : "");
-      });
+  const auto line = [](const std::string& name, const char* whose, const json& search) {
+    return fmt::format(
+        "{}: {}u0 searched in {:.1f} twin evaluations per assembly ({:.1f} requests){}\n", name,
+        whose, search.at("evaluations_per_assembly").get<double>(),
+        search.at("requests_per_assembly").get<double>(),
+        search.value("read_from_file", false) ? ", read from its optima_file" : "");
+  };
+  std::string out;
+  for (const json& group : groups) {
+    if (!group.contains("twin")) continue;
+    const json& twin = group.at("twin");
+    const std::string name = group.at("name").get<std::string>();
+    if (const json search = twin.value("optimum_search", json()); !search.is_null()) {
+      out += line(name, "", search);
+    }
+    if (const json search = twin.value("plant_optimum_search", json()); !search.is_null()) {
+      out += line(name, "the plant's ", search);
+    }
+  }
+  return out;
 }
 
 }  // namespace twincal

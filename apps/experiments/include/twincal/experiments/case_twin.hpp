@@ -83,6 +83,8 @@ class CaseTwin {
                                      const Eigen::Ref<const VectorX>& control) const;
   /// Whether the plant is another twin than the controllers'.
   [[nodiscard]] bool separate_plant() const noexcept { return plant_.has_value(); }
+  /// The plant where it is another twin than the controllers' (separate_plant()), else nothing.
+  [[nodiscard]] const std::optional<AnyTwin>& plant() const noexcept { return plant_; }
   /// The best quality the plant can give x: z*(x) of the plant (its own optimum over every
   /// locator), which is the twin's z*(x) when the plant is the twin. With a separate plant and a
   /// subset of locators it is a lower bound of what the controlled locators can reach.
