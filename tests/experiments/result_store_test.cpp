@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "twincal/experiments/episode_runner.hpp"
@@ -67,44 +68,36 @@ TEST_F(ResultStoreOfAnalyticGroup, AppendsRowsAndRecordsAndReloadsThem) {
   EXPECT_TRUE(reopened.groups()[0].at("twin").at("optimum_search").is_null());
 }
 
-TEST(ResultStore, RecordsWhatTheTwinsU0SearchCostPerAssembly) {
-  const fs::path dir = store_scratch("RecordsWhatTheTwinsU0SearchCostPerAssembly");
-  const auto config = nlohmann::json::parse(R"({"case": "analytic", "locators": "all",
-      "analytic_dimension": 2, "nonlinearity": "kink", "controllers": ["baseline"]})")
-                          .get<ExperimentConfig>();
-  const CaseTwin twin = make_case_twin(config);
-  const std::optional<OptimumSearchCost> cost = twin.full_twin().optimum_search();
-  ASSERT_TRUE(cost.has_value());
-  ResultStore store(dir);
-  store.add_group({config, nlohmann::json::object()}, twin);
-  const nlohmann::json& search = store.groups()[0].at("twin").at("optimum_search");
-  const auto assemblies = static_cast<double>(twin.assemblies().size());
-  EXPECT_DOUBLE_EQ(search.at("evaluations_per_assembly").get<double>(),
-                   static_cast<double>(cost->evaluations) / assemblies);
-  EXPECT_DOUBLE_EQ(search.at("requests_per_assembly").get<double>(),
-                   static_cast<double>(cost->requests) / assemblies);
-  EXPECT_GT(search.at("evaluations_per_assembly").get<double>(), 100.0);  // NLopt: thousands
-  EXPECT_FALSE(search.contains("read_from_file"));
-  // The twin is its own plant: nothing more was searched.
-  EXPECT_TRUE(store.groups()[0].at("twin").at("plant_optimum_search").is_null());
-}
-
-TEST(ResultStore, RecordsWhatThePlantsOwnZStarSearchCostPerAssembly) {
-  const fs::path dir = store_scratch("RecordsWhatThePlantsOwnZStarSearchCostPerAssembly");
-  const auto config = nlohmann::json::parse(R"({"case": "analytic", "locators": "all",
-      "analytic_dimension": 2, "plant_nonlinearity": "contact", "controllers": ["baseline"]})")
-                          .get<ExperimentConfig>();
-  const CaseTwin twin = make_case_twin(config);
-  ASSERT_TRUE(twin.plant().has_value());
-  const std::optional<OptimumSearchCost> cost = twin.plant()->optimum_search();
-  ASSERT_TRUE(cost.has_value());
-  ResultStore store(dir);
-  store.add_group({config, nlohmann::json::object()}, twin);
-  const nlohmann::json& search = store.groups()[0].at("twin").at("plant_optimum_search");
-  EXPECT_DOUBLE_EQ(
-      search.at("evaluations_per_assembly").get<double>(),
-      static_cast<double>(cost->evaluations) / static_cast<double>(twin.assemblies().size()));
-  EXPECT_GT(search.at("evaluations_per_assembly").get<double>(), 100.0);
+// What u0 cost the twin that searched it, and z* the plant that is another twin: per assembly,
+// as the searches count them; null where nothing was searched.
+TEST(ResultStore, RecordsWhatTheU0SearchesOfTwinAndPlantCostPerAssembly) {
+  for (const char* nonlinearity : {"nonlinearity", "plant_nonlinearity"}) {
+    const fs::path dir = store_scratch(std::string("RecordsWhatTheU0Searches_") + nonlinearity);
+    const auto config =
+        nlohmann::json::parse(fmt::format(R"({{"case": "analytic", "locators": "all",
+          "analytic_dimension": 2, "{}": "kink", "controllers": ["baseline"]}})",
+                                          nonlinearity))
+            .get<ExperimentConfig>();
+    const CaseTwin twin = make_case_twin(config);
+    const bool plant = twin.separate_plant();
+    EXPECT_EQ(plant, std::string(nonlinearity) == "plant_nonlinearity");
+    const std::optional<OptimumSearchCost> cost =
+        plant ? twin.plant()->optimum_search() : twin.full_twin().optimum_search();
+    ASSERT_TRUE(cost.has_value());
+    ResultStore store(dir);
+    store.add_group({config, nlohmann::json::object()}, twin);
+    const nlohmann::json& recorded = store.groups()[0].at("twin");
+    const nlohmann::json& search = recorded.at(plant ? "plant_optimum_search" : "optimum_search");
+    const auto assemblies = static_cast<double>(twin.assemblies().size());
+    EXPECT_DOUBLE_EQ(search.at("evaluations_per_assembly").get<double>(),
+                     static_cast<double>(cost->evaluations) / assemblies);
+    EXPECT_DOUBLE_EQ(search.at("requests_per_assembly").get<double>(),
+                     static_cast<double>(cost->requests) / assemblies);
+    EXPECT_GT(search.at("evaluations_per_assembly").get<double>(), 100.0);  // NLopt: thousands
+    EXPECT_FALSE(search.contains("read_from_file"));
+    // The twin is its own plant, or behind a plant with a kink it knows its optimum.
+    EXPECT_TRUE(recorded.at(plant ? "optimum_search" : "plant_optimum_search").is_null());
+  }
 }
 
 TEST_F(ResultStoreOfAnalyticGroup, RecordsTheLostRuleAndReadsItBackIdentically) {
