@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
 #include "twincal/experiments/result_store.hpp"
+#include "twincal/experiments/searched_optima_file.hpp"
 #include "twincal/experiments/twin_cases.hpp"
 
 namespace twincal {
@@ -409,6 +411,10 @@ class FormulaBackend final : public ExternalTwinBackend {
   void worker_quality_batch(Index worker, const nlohmann::json& assembly,
                             const Eigen::Ref<const MatrixX>& controls,
                             Eigen::Ref<VectorX> out) const override {
+    if ((answered_ += controls.cols()) > crash_after_) {
+      throw ExternalTwinError(ExternalTwinFailure::crashed, assembly.dump(), controls,
+                              "killed, as the test asked");
+    }
     per_worker_.at(static_cast<std::size_t>(worker)) += controls.cols();
     if (evaluations_ != nullptr) *evaluations_ += controls.cols();
     evaluate(assembly, controls, out);
@@ -416,7 +422,9 @@ class FormulaBackend final : public ExternalTwinBackend {
 
   mutable std::vector<std::atomic<Index>> per_worker_;
   mutable std::atomic<Index> batches_{0};
-  std::atomic<Index>* evaluations_ = nullptr;  // also counts every evaluation, when set
+  std::atomic<Index>* evaluations_ = nullptr;              // also counts every evaluation, when set
+  Index crash_after_ = std::numeric_limits<Index>::max();  // evaluations a worker answers
+  mutable std::atomic<Index> answered_{0};
 
  private:
   static void evaluate(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
@@ -527,6 +535,48 @@ TEST(ExternalCaseTwin, SearchesIntoItsOptimaFileOnceAndReadsItAfterwards) {
   settings.optimum_local_evaluations = 200;  // another search: refused, not searched over
   EXPECT_THROW(ExternalCaseTwin(settings, factory), InvalidArgumentError);
   EXPECT_EQ(evaluations.load(), 0);
+}
+
+// A study killed during the search keeps the pairs found so far: the next one searches only the
+// others, and ends where an uninterrupted search does, to the bit and to the evaluation.
+TEST(ExternalCaseTwin, ResumesAnInterruptedSearchFromItsOptimaFile) {
+  for (const Index budget : {Index{0}, Index{14}}) {
+    ExternalTwinSettings settings = minimal_twin(2);
+    settings.command = {"a-program-that-is-never-started"};
+    settings.optimum_budget = budget;
+    const ExternalCaseTwin uninterrupted(
+        settings, [](const ExternalTwinSettings&) { return std::make_unique<FormulaBackend>(2); });
+    settings.optima_file =
+        (std::filesystem::path(::testing::TempDir()) / "twincal_resumed_optima.json").string();
+    std::filesystem::remove(settings.optima_file);
+    std::atomic<Index> evaluations{0};
+    Index crash_after = uninterrupted.search_evaluations() / 2;
+    const auto factory = [&](const ExternalTwinSettings&) {
+      auto backend = std::make_unique<FormulaBackend>(2);
+      backend->evaluations_ = &evaluations;
+      backend->crash_after_ = crash_after;
+      return backend;
+    };
+    EXPECT_THROW(ExternalCaseTwin(settings, factory), ExternalTwinError);
+    const std::optional<SearchedOptima> kept = read_searched_optima(settings.optima_file, settings);
+    ASSERT_TRUE(kept.has_value());
+    const auto found = std::count(kept->found.begin(), kept->found.end(), true);
+    EXPECT_GT(found, 0) << "budget " << budget;
+    EXPECT_LT(found, 6) << "budget " << budget;
+
+    evaluations = 0;
+    crash_after = std::numeric_limits<Index>::max();
+    const ExternalCaseTwin resumed(settings, factory);
+    EXPECT_FALSE(resumed.optima_read());
+    EXPECT_LT(static_cast<std::uint64_t>(evaluations.load()), uninterrupted.search_evaluations());
+    EXPECT_EQ(resumed.search_evaluations(), uninterrupted.search_evaluations());
+    EXPECT_EQ(resumed.search_requests(), uninterrupted.search_requests());
+    for (const AssemblyId& x : uninterrupted.assemblies()) {
+      EXPECT_EQ(resumed.optimum(x), uninterrupted.optimum(x)) << fmt::format("{}", x);
+      EXPECT_EQ(resumed.optimal_quality(x), uninterrupted.optimal_quality(x));
+    }
+    EXPECT_TRUE(read_searched_optima(settings.optima_file, settings)->complete());
+  }
 }
 
 TEST(ExternalCaseTwin, RefusesAnOptimaFileItCannotWriteBeforeSearching) {

@@ -39,9 +39,8 @@ ExternalTwinSettings two_locators() {
 
 // Digits that a printout to 6 or 15 places would change.
 SearchedOptima awkward_optima() {
-  SearchedOptima optima;
-  optima.controls.resize(2, 6);
-  optima.qualities.resize(6);
+  SearchedOptima optima(2, 6);
+  optima.found.assign(6, true);
   for (Index a = 0; a < 6; ++a) {
     optima.controls(0, a) = (0.1 + 0.2) * static_cast<double>(a) / 3.0 - 0.7;
     optima.controls(1, a) = -1.0 / (3.0 + static_cast<double>(a)) + 1e-17 * static_cast<double>(a);
@@ -63,7 +62,26 @@ TEST(SearchedOptimaFile, ReadsBackEveryBitItWrote) {
   EXPECT_EQ(read->qualities, written.qualities);
   EXPECT_EQ(read->evaluations, 2940U);
   EXPECT_EQ(read->requests, 1470U);
+  EXPECT_TRUE(read->complete());
   EXPECT_FALSE(fs::exists(fs::path(path.string() + ".tmp")));
+}
+
+// An interrupted search's file: the pairs found so far, and what they cost.
+TEST(SearchedOptimaFile, KeepsThePairsASearchHasFound) {
+  const fs::path path = scratch("partial");
+  SearchedOptima partial = awkward_optima();
+  partial.found = {true, false, false, true, true, false};
+  partial.evaluations = 1470;
+  write_searched_optima(path, two_locators(), partial);
+  const std::optional<SearchedOptima> read = read_searched_optima(path, two_locators());
+  ASSERT_TRUE(read.has_value());
+  EXPECT_EQ(read->found, partial.found);
+  EXPECT_FALSE(read->complete());
+  EXPECT_EQ(read->evaluations, 1470U);
+  for (const Index a : {0, 3, 4}) {
+    EXPECT_EQ(read->controls.col(a), partial.controls.col(a));
+    EXPECT_EQ(read->qualities(a), partial.qualities(a));
+  }
 }
 
 TEST(SearchedOptimaFile, IsNothingWhereThereIsNoFile) {
@@ -113,10 +131,16 @@ TEST(SearchedOptimaFile, RefusesADamagedFileNamingWhatIsWrong) {
       {[](nlohmann::json& f) { f.erase("search"); }, "the file has no \"search\""},
       {[](nlohmann::json& f) { f["search"]["evaluations"] = -3; },
        "search.evaluations is -3; rule: a count"},
-      {[](nlohmann::json& f) { f["optima"].erase(5); },
-       "optima holds 5 entries; rule: one per pair, upper_parts × lower_parts = 6"},
+      {[](nlohmann::json& f) {
+         f["optima"] = {{"upper", 0}};
+       },
+       R"(optima is {"upper":0}; rule: a list of the pairs found)"},
       {[](nlohmann::json& f) { std::swap(f["optima"][1], f["optima"][2]); },
-       "optima[1] is the pair (0, 2); rule: the pairs upper-major: (0, 1) there"},
+       "optima[2] is the pair (0, 1); rule: pairs of parts within 2 × 3, upper-major, each once"},
+      {[](nlohmann::json& f) { f["optima"][5]["upper"] = 2; },
+       "optima[5] is the pair (2, 2); rule: pairs of parts within 2 × 3"},
+      {[](nlohmann::json& f) { f["optima"][1] = f["optima"][0]; },
+       "optima[1] is the pair (0, 0); rule: pairs of parts within 2 × 3, upper-major, each once"},
       {[](nlohmann::json& f) { f["optima"][4]["control"] = {0.1}; },
        "optima[4].control is [0.1]; rule: one number per locator (2)"},
       {[](nlohmann::json& f) { f["optima"][4]["control"][1] = 0.6; },
@@ -154,8 +178,8 @@ TEST(SearchedOptimaFile, RefusesOptimaThatDoNotFitTheSettingsAndAPathItCannotWri
     write_searched_optima(path, two_locators(), three_pairs);
     ADD_FAILURE() << "optima of 3 pairs were written for 6";
   } catch (const InvalidArgumentError& error) {
-    EXPECT_THAT(error.what(), HasSubstr("the optima are 2 × 3 controls and 3 qualities; rule: "
-                                        "2 × 6 and 6: one per locator and pair"));
+    EXPECT_THAT(error.what(), HasSubstr("the optima are 2 × 3 controls, 3 qualities and 6 flags; "
+                                        "rule: 2 × 6, 6 and 6: one per locator and pair"));
   }
   EXPECT_FALSE(fs::exists(path));
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -74,69 +75,88 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings,
   for (Index i = 0; i < settings.upper_parts; ++i) {
     for (Index j = 0; j < settings.lower_parts; ++j) assemblies_.push_back({i, j});
   }
-  const Index n = std::ssize(assemblies_);
-  optima_.resize(control_dimension(), n);
-  optimal_qualities_.resize(n);
-  if (settings.optima_file.empty()) {
-    search_pairs();
-    return;
+  SearchedOptima pairs(control_dimension(), std::ssize(assemblies_));
+  const std::string& file = settings.optima_file;
+  if (!file.empty()) {
+    if (std::optional<SearchedOptima> kept = read_searched_optima(file, settings)) {
+      pairs = std::move(*kept);
+    } else {
+      require_writable_optima_file(file);  // before the search, not after it
+    }
   }
-  if (std::optional<SearchedOptima> read = read_searched_optima(settings.optima_file, settings)) {
-    optima_ = std::move(read->controls);
-    optimal_qualities_ = std::move(read->qualities);
-    search_cost_ = {read->evaluations, read->requests};
-    optima_read_ = true;
-    return;
+  optima_read_ = pairs.complete();
+  if (!optima_read_) {
+    // After each pair the file holds every pair found so far, so a killed study resumes there.
+    search_pairs(
+        pairs, file.empty() ? FoundPairs{} : [&](const SearchedOptima& found) {
+          write_searched_optima(file, settings, found);
+        });
   }
-  require_writable_optima_file(settings.optima_file);  // before the search, not after it
-  search_pairs();
-  write_searched_optima(
-      settings.optima_file, settings,
-      {optima_, optimal_qualities_, search_cost_.evaluations, search_cost_.requests});
+  optima_ = std::move(pairs.controls);
+  optimal_qualities_ = std::move(pairs.qualities);
+  search_cost_ = {pairs.evaluations, pairs.requests};
 }
 
-void ExternalCaseTwin::search_pairs() {
+void ExternalCaseTwin::search_pairs(SearchedOptima& pairs, const FoundPairs& found) {
   const Index n = std::ssize(assemblies_);
   const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
   const auto from_centre = [&](const AssemblyId&) { return centre; };
+  // The pairs of `phase` (0 or 1 for the budgeted search's phases, −1: all) not yet found.
+  const auto missing = [&](int phase) {
+    std::vector<Index> positions;
+    for (Index a = 0; a < n; ++a) {
+      const AssemblyId& assembly = assemblies_[static_cast<std::size_t>(a)];
+      if ((phase < 0 || AdditiveWarmStart::phase(assembly) == phase) &&
+          !pairs.found[static_cast<std::size_t>(a)]) {
+        positions.push_back(a);
+      }
+    }
+    return positions;
+  };
   if (budget_ == 0) {
-    std::vector<Index> all(static_cast<std::size_t>(n));
-    for (Index a = 0; a < n; ++a) all[static_cast<std::size_t>(a)] = a;
-    search_all(all, from_centre, global_evaluations_, local_evaluations_);
+    search_all(missing(-1), from_centre, global_evaluations_, local_evaluations_, pairs, found);
     return;
   }
   // Budgeted: the first row and column from the centre, then the others from the additive warm
   // start, each phase finished before the next, so no start depends on the workers' timing.
-  std::vector<Index> phases[2];
-  for (Index a = 0; a < n; ++a) {
-    phases[AdditiveWarmStart::phase(assemblies_[static_cast<std::size_t>(a)])].push_back(a);
-  }
-  search_all(phases[0], from_centre, 0, 2 * budget_);
+  search_all(missing(0), from_centre, 0, 2 * budget_, pairs, found);
   AdditiveWarmStart warm(lower_bounds(), upper_bounds());
-  for (const Index a : phases[0])
-    warm.record(assemblies_[static_cast<std::size_t>(a)], optima_.col(a));
+  for (Index a = 0; a < n; ++a) {
+    const AssemblyId& assembly = assemblies_[static_cast<std::size_t>(a)];
+    if (AdditiveWarmStart::phase(assembly) == 0) warm.record(assembly, pairs.controls.col(a));
+  }
   search_all(
-      phases[1], [&](const AssemblyId& assembly) { return warm.start(assembly, centre); }, 0,
-      budget_);
+      missing(1), [&](const AssemblyId& assembly) { return warm.start(assembly, centre); }, 0,
+      budget_, pairs, found);
 }
 
 template <typename Start>
 void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Start& start,
-                                  Index global_evaluations, Index local_evaluations) {
+                                  Index global_evaluations, Index local_evaluations,
+                                  SearchedOptima& pairs, const FoundPairs& found) {
   const Index count = std::ssize(positions);
   if (count == 0) return;
-  // Worker w searches positions w, w + T, …: one request in flight per worker.
+  // Worker w searches positions w, w + T, …: one request in flight per worker. Each result joins
+  // `pairs` (and `found` sees them) under one lock, so no worker reads a column another writes.
   const Index threads = std::min(backend_->workers(), count);
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(threads));
-  std::vector<SearchCost> costs(static_cast<std::size_t>(threads));
+  std::mutex joining;
   const auto search_share = [&](Index w) {
+    VectorX optimum(control_dimension());
+    double quality = 0.0;
     for (Index k = w; k < count; k += threads) {
       const Index a = positions[static_cast<std::size_t>(k)];
       const AssemblyId& assembly = assemblies_[static_cast<std::size_t>(a)];
       try {
-        costs[static_cast<std::size_t>(w)] +=
-            search(w, threads == 1, assembly_json(assembly), start(assembly), global_evaluations,
-                   local_evaluations, optima_.col(a), optimal_qualities_(a));
+        const SearchCost cost = search(w, threads == 1, assembly_json(assembly), start(assembly),
+                                       global_evaluations, local_evaluations, optimum, quality);
+        const std::lock_guard lock(joining);
+        pairs.controls.col(a) = optimum;
+        pairs.qualities(a) = quality;
+        pairs.found[static_cast<std::size_t>(a)] = true;
+        pairs.evaluations += cost.evaluations;
+        pairs.requests += cost.requests;
+        if (found) found(pairs);
       } catch (...) {
         failures[static_cast<std::size_t>(w)] = std::current_exception();
         return;
@@ -151,7 +171,6 @@ void ExternalCaseTwin::search_all(const std::vector<Index>& positions, const Sta
   for (const std::exception_ptr& failure : failures) {
     if (failure) std::rethrow_exception(failure);
   }
-  for (const SearchCost& cost : costs) search_cost_ += cost;
 }
 
 ExternalCaseTwin::SearchCost ExternalCaseTwin::search(

@@ -101,30 +101,32 @@ std::optional<SearchedOptima> read_searched_optima(const std::filesystem::path& 
   }
   const nlohmann::json& search = member(path, file, "the file", "search");
   const nlohmann::json& optima = member(path, file, "the file", "optima");
-  const Index pairs = pair_count(settings);
-  if (!optima.is_array() || std::ssize(optima) != pairs) {
-    refuse(path, fmt::format("optima holds {} entries", optima.is_array() ? optima.size() : 0),
-           fmt::format("one per pair, upper_parts × lower_parts = {}", pairs));
+  if (!optima.is_array()) {
+    refuse(path, fmt::format("optima is {}", optima.dump()), "a list of the pairs found");
   }
   const auto d = std::ssize(settings.locators);
-  SearchedOptima read;
-  read.controls.resize(d, pairs);
-  read.qualities.resize(pairs);
+  SearchedOptima read(d, pair_count(settings));
   read.evaluations =
       count(path, member(path, search, "search", "evaluations"), "search.evaluations");
   read.requests = count(path, member(path, search, "search", "requests"), "search.requests");
-  for (Index a = 0; a < pairs; ++a) {
-    const nlohmann::json& entry = optima[static_cast<std::size_t>(a)];
-    const std::string where = fmt::format("optima[{}]", a);
-    const Index upper = a / settings.lower_parts;
-    const Index lower = a % settings.lower_parts;
+  Index after = -1;  // the last pair read, as a column
+  for (std::size_t e = 0; e < optima.size(); ++e) {
+    const nlohmann::json& entry = optima[e];
+    const std::string where = fmt::format("optima[{}]", e);
     const nlohmann::json& upper_index = member(path, entry, where, "upper");
     const nlohmann::json& lower_index = member(path, entry, where, "lower");
-    if (upper_index != upper || lower_index != lower) {
+    const bool indices = upper_index.is_number_integer() && lower_index.is_number_integer();
+    const Index upper = indices ? upper_index.get<Index>() : -1;
+    const Index lower = indices ? lower_index.get<Index>() : -1;
+    const Index a = upper * settings.lower_parts + lower;
+    if (upper < 0 || upper >= settings.upper_parts || lower < 0 || lower >= settings.lower_parts ||
+        a <= after) {
       refuse(path,
              fmt::format("{} is the pair ({}, {})", where, upper_index.dump(), lower_index.dump()),
-             fmt::format("the pairs upper-major: ({}, {}) there", upper, lower));
+             fmt::format("pairs of parts within {} × {}, upper-major, each once",
+                         settings.upper_parts, settings.lower_parts));
     }
+    after = a;
     const nlohmann::json& control = member(path, entry, where, "control");
     if (!control.is_array() || std::ssize(control) != d) {
       refuse(path, fmt::format("{}.control is {}", where, control.dump()),
@@ -146,6 +148,7 @@ std::optional<SearchedOptima> read_searched_optima(const std::filesystem::path& 
       refuse(path, fmt::format("{}.quality is {}", where, quality.dump()), "finite and >= 0");
     }
     read.qualities(a) = z;
+    read.found[static_cast<std::size_t>(a)] = true;
   }
   return read;
 }
@@ -155,14 +158,16 @@ void write_searched_optima(const std::filesystem::path& path, const ExternalTwin
   const Index pairs = pair_count(settings);
   const auto d = std::ssize(settings.locators);
   if (optima.controls.rows() != d || optima.controls.cols() != pairs ||
-      optima.qualities.size() != pairs) {
+      optima.qualities.size() != pairs || std::ssize(optima.found) != pairs) {
     refuse(path,
-           fmt::format("the optima are {} × {} controls and {} qualities", optima.controls.rows(),
-                       optima.controls.cols(), optima.qualities.size()),
-           fmt::format("{} × {} and {}: one per locator and pair", d, pairs, pairs));
+           fmt::format("the optima are {} × {} controls, {} qualities and {} flags",
+                       optima.controls.rows(), optima.controls.cols(), optima.qualities.size(),
+                       optima.found.size()),
+           fmt::format("{} × {}, {} and {}: one per locator and pair", d, pairs, pairs, pairs));
   }
   nlohmann::json entries = nlohmann::json::array();
   for (Index a = 0; a < pairs; ++a) {
+    if (!optima.found[static_cast<std::size_t>(a)]) continue;
     entries.push_back({{"upper", a / settings.lower_parts},
                        {"lower", a % settings.lower_parts},
                        {"control", std::vector<double>(optima.controls.col(a).begin(),

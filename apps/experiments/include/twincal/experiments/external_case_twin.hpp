@@ -26,6 +26,7 @@
 #include "twincal/core/eigen.hpp"
 #include "twincal/experiments/external_twin_settings.hpp"
 #include "twincal/experiments/scanned_assembly.hpp"
+#include "twincal/experiments/searched_optima_file.hpp"
 #include "twincal/external/external_twin_backend.hpp"
 #include "twincal/external/external_twin_pool.hpp"
 #include "twincal/models/assembly_id.hpp"
@@ -49,8 +50,8 @@ class ExternalCaseTwin {
   using Assembly = AssemblyId;
 
   /// Starts the workers (the backend that `backend` makes, by default an ExternalTwinPool) and
-  /// searches every assembly's optimum, or reads them from settings.optima_file when it exists
-  /// (and writes them there after the search when it does not).
+  /// searches every assembly's optimum, or reads those settings.optima_file holds and searches
+  /// the others, rewriting the file after each.
   /// @throws InvalidArgumentError for invalid settings, an optima_file that does not serve them
   ///         or cannot be written (checked before the search); ExternalTwinError when the
   ///         program fails (after the pool's retry), naming the assembly whose search failed.
@@ -99,7 +100,8 @@ class ExternalCaseTwin {
   [[nodiscard]] Index scanned_count() const noexcept { return std::ssize(scanned_parts_); }
   /// Every (upper, lower) pair, upper-major (the scanned assemblies are not listed).
   [[nodiscard]] const std::vector<AssemblyId>& assemblies() const noexcept { return assemblies_; }
-  /// Whether the pairs' optima were read from settings.optima_file instead of searched.
+  /// Whether every pair's optimum was read from settings.optima_file, none searched (a file of
+  /// an interrupted search gives the pairs it holds, and the others are searched).
   [[nodiscard]] bool optima_read() const noexcept { return optima_read_; }
   /// Evaluations the optimum searches took, over all assemblies (for optima read from a file,
   /// what the search that wrote it took).
@@ -136,13 +138,15 @@ class ExternalCaseTwin {
   SearchCost search(Index worker, bool whole_pool, const nlohmann::json& assembly,
                     const VectorX& start, Index global_evaluations, Index local_evaluations,
                     Eigen::Ref<VectorX> optimum, double& quality) const;
-  // Searches every pair's optimum into optima_ and optimal_qualities_.
-  void search_pairs();
-  // Searches the assemblies at `positions` (indices into assemblies_), one request in flight per
-  // worker, each from start(assembly).
+  // Called with the pairs found so far after each one the search finishes (under a lock).
+  using FoundPairs = std::function<void(const SearchedOptima&)>;
+  // Searches the optima of the pairs `pairs` has not found into it.
+  void search_pairs(SearchedOptima& pairs, const FoundPairs& found);
+  // Searches the pairs at `positions` (indices into assemblies_) into `pairs`, one request in
+  // flight per worker, each from start(assembly).
   template <typename Start>
   void search_all(const std::vector<Index>& positions, const Start& start, Index global_evaluations,
-                  Index local_evaluations);
+                  Index local_evaluations, SearchedOptima& pairs, const FoundPairs& found);
 
   std::unique_ptr<ExternalTwinBackend> backend_;
   Index lower_parts_;

@@ -8,18 +8,24 @@
 ///
 /// The file records the settings that decide the search (result_defining_json(): every field of
 /// ExternalTwinSettings but those that change no result) and is read only under the same
-/// settings. It cannot record the program's build: a program that
-/// changed answers other optima, so its file must be deleted. Numbers are written in their
-/// shortest exact form, so optima read back are the searched ones to the last bit and a study
-/// gives the same digits with the file as without it. JSON:
+/// settings. It cannot record the program's build: a program that changed answers other optima,
+/// so its file must be deleted. It is rewritten after every pair the search finishes, so a study
+/// killed during the search loses one pair per worker at most: the next one reads the pairs
+/// found and searches the others, to the same optima (each pair's search depends only on its
+/// start, and the starts only on pairs found before it). Numbers are written in their shortest
+/// exact form, so optima read back are the searched ones to the last bit and a study gives the
+/// same digits with the file as without it. JSON:
 ///   {"format": "twincal searched optima 1", "settings": {<the deciding fields>},
 ///    "search": {"evaluations": 2940, "requests": 2940},
 ///    "optima": [{"upper": 0, "lower": 0, "control": [0.12, -0.3], "quality": 0.034}, …]}
-/// with the pairs upper-major, as ExternalCaseTwin::assemblies() lists them.
+/// with the pairs found so far upper-major, as ExternalCaseTwin::assemblies() lists them, and
+/// "search" what finding them cost.
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -28,24 +34,35 @@
 
 namespace twincal {
 
-/// What a search found for every pair, and what it cost.
+/// What a search found for the pairs it has finished, and what that cost.
 struct SearchedOptima {
   MatrixX controls;               ///< d × pairs, column upper · lower_parts + lower
   VectorX qualities;              ///< z*(x) of each pair
-  std::uint64_t evaluations = 0;  ///< the search's twin evaluations, over all pairs
+  std::vector<bool> found;        ///< whether each pair's column holds its optimum yet
+  std::uint64_t evaluations = 0;  ///< the search's twin evaluations, over the pairs found
   std::uint64_t requests = 0;     ///< its requests (rounds of the twin's latency)
+
+  /// Nothing found yet, for `pairs` pairs of a d-locator twin.
+  SearchedOptima(Index d, Index pairs)
+      : controls(MatrixX::Zero(d, pairs)),
+        qualities(VectorX::Zero(pairs)),
+        found(static_cast<std::size_t>(pairs), false) {}
+  /// Whether every pair is found.
+  [[nodiscard]] bool complete() const noexcept {
+    return std::find(found.begin(), found.end(), false) == found.end();
+  }
 };
 
 /// The optima that `path` holds for `settings`; nothing when there is no file at `path`.
 /// @throws InvalidArgumentError naming the file and what is wrong with it: unreadable or not
 ///         JSON, another format, settings other than these (the first field that differs),
-///         another number of pairs, a control of another dimension, not finite or outside the
-///         bounds, a quality not finite or negative.
+///         pairs out of order or beyond upper_parts × lower_parts, a control of another
+///         dimension, not finite or outside the bounds, a quality not finite or negative.
 [[nodiscard]] std::optional<SearchedOptima> read_searched_optima(
     const std::filesystem::path& path, const ExternalTwinSettings& settings);
 
-/// Writes `optima` for `settings` to `path`, whole or not at all (a temporary file beside it,
-/// then renamed over it).
+/// Writes the pairs `optima` has found, for `settings`, to `path`, whole or not at all (a
+/// temporary file beside it, then renamed over it).
 /// @throws InvalidArgumentError when the file cannot be written, or `optima` does not fit the
 ///         settings (dimension, number of pairs).
 void write_searched_optima(const std::filesystem::path& path, const ExternalTwinSettings& settings,
