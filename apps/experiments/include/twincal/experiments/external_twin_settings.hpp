@@ -63,10 +63,11 @@ struct ExternalTwinSettings {
   /// them (Q = ‖r‖ / √m; docs/external.md); 0 for a program that answers qualities only.
   Index key_points = 0;
   /// A file of the pairs' searched u0(x) and z*(x) (searched_optima_file.hpp; a path relative
-  /// to the working directory): read instead of searching when it exists — it must have been
-  /// searched under these settings —, written after the search when it does not. "" (the
-  /// default): search every time. A slow program's search then runs once per file rather than
-  /// once per study; delete the file when the program changes.
+  /// to the working directory): the pairs it holds are read instead of searched — it must have
+  /// been searched under these settings —, the others searched and written to it one by one, so
+  /// an interrupted search resumes. "" (the default): search every time. A slow program's search
+  /// then runs once per file rather than once per study; delete the file when the program
+  /// changes.
   std::string optima_file;
 
   static constexpr Index max_parts = 10000;
