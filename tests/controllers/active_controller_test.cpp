@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -337,6 +338,94 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
   restored.restore(by_default.before_12);
   restored.restart(offset, identity * 1e-6);
   (void)restored.propose(assembly(12));
+  EXPECT_TRUE(restored.last_step().corrected);
+}
+
+// With trial_innovations, a z beyond the innovation gate among the episode's first innovations
+// is a surprise whether the refit explains it or not, and it alone holds the estimate back while
+// it is among the last change_window + 3 = 5 assemblies. Here hold_after_surprises is 0, so the
+// trial is the only rule that holds for surprises: one answer of the plant from an offset moved
+// by 0.6 on every locator (assembly 1, within the trial of 5) holds the next proposals back
+// until that surprise and any the trial saw after it have left the ring, where the controller
+// without a trial applies them; the same jump at assembly 10, after the trial, holds nothing.
+// Where the twin predicts the plant the trial changes no control. A snapshot taken during the
+// hold holds once restored, and restart() ends the hold.
+TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial) {
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
+  const CountingTwin counting(twin);
+  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
+  const auto options = [](Index trial) {
+    return ActiveOptions{
+        .max_probe_fraction = 1e-9, .hold_after_surprises = 0, .trial_innovations = trial};
+  };
+  const auto assembly = [&](int t) {
+    return assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+  };
+  struct Run {
+    std::vector<VectorX> controls;        // by proposal
+    std::vector<bool> corrected;          // by proposal
+    std::vector<bool> held_by_surprises;  // by proposal
+    std::vector<bool> gated;              // by observation: nu^2/S beyond the gate
+    nlohmann::json before_2;              // the state after observation 1
+  };
+  const auto run = [&](Index trial, std::optional<int> jump) {
+    TypeParam controller(counting, RandomStream(12), options(trial));
+    controller.restart(offset, identity * 1e-6);
+    Run result;
+    for (int t = 0; t < 16; ++t) {
+      if (t == 2) result.before_2 = controller.save();
+      const VectorX u = controller.propose(assembly(t));
+      result.controls.push_back(u);
+      result.corrected.push_back(controller.last_step().corrected);
+      result.held_by_surprises.push_back(controller.last_step().held_by_surprises);
+      expect_holds_explain_the_control(controller.last_step(), t);
+      const VectorX plant_offset = jump == t ? VectorX(offset.array() + 0.6) : offset;
+      controller.observe(assembly(t), u, twin.quality(assembly(t), VectorX(u - plant_offset)));
+      result.gated.push_back(controller.last_step().normalized_innovation > 25.0);
+    }
+    return result;
+  };
+
+  const Run predicted = run(5, std::nullopt);
+  EXPECT_EQ(predicted.controls, run(0, std::nullopt).controls);
+  EXPECT_TRUE(std::none_of(predicted.gated.begin(), predicted.gated.end(),
+                           [](bool gated) { return gated; }));
+
+  const Run trial = run(5, 1);
+  const Run no_trial = run(0, 1);
+  ASSERT_TRUE(trial.gated[1]);
+  // The last surprise of the trial (observations 0 … 4) and the proposals it holds.
+  int last = 1;
+  for (int t = 2; t < 5; ++t) last = trial.gated[static_cast<std::size_t>(t)] ? t : last;
+  const auto never_held = [](const Run& r) {
+    return std::none_of(r.held_by_surprises.begin(), r.held_by_surprises.end(),
+                        [](bool held) { return held; });
+  };
+  for (std::size_t t = 0; t < 16; ++t) {
+    const bool within = t >= 2 && static_cast<int>(t) <= last + 5;
+    EXPECT_EQ(trial.held_by_surprises[t], within) << "proposal " << t;
+    if (within) EXPECT_FALSE(trial.corrected[t]) << "proposal " << t;
+  }
+  EXPECT_TRUE(trial.corrected[static_cast<std::size_t>(last) + 6]);
+  // Without the trial the controller applies the estimate at once, unless the innovations rule
+  // holds it (four of the last five beyond the gate).
+  EXPECT_TRUE(no_trial.corrected[2]);
+  EXPECT_TRUE(never_held(no_trial));
+
+  const Run after_trial = run(5, 10);
+  ASSERT_TRUE(after_trial.gated[10]);
+  EXPECT_TRUE(never_held(after_trial));
+
+  TypeParam restored(counting, RandomStream(12), options(5));
+  restored.restore(trial.before_2);
+  (void)restored.propose(assembly(2));
+  EXPECT_FALSE(restored.last_step().corrected);
+  EXPECT_TRUE(restored.last_step().held_by_surprises);
+  restored.restore(trial.before_2);
+  restored.restart(offset, identity * 1e-6);
+  (void)restored.propose(assembly(2));
   EXPECT_TRUE(restored.last_step().corrected);
 }
 
@@ -685,6 +774,8 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(ActiveOptions{.hold_after_surprises = 6}.validate(),
             "hold_after_surprises: value is 6; rule: must lie in [0, trajectory.change_window + "
             "3] = [0, 5]");
+  EXPECT_EQ(ActiveOptions{.trial_innovations = -1}.validate(),
+            "trial_innovations: value is -1; rule: must be >= 0");
   EXPECT_EQ(ActiveOptions{.surrogate = {.tolerance = 0.0}}.validate(),
             "surrogate.tolerance: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),

@@ -330,6 +330,7 @@ class ActiveCalibrationController {
     restarted_ = true;   // an estimate given from outside is applied without waiting for evidence
     surprised_ = false;  // nor bounded or held back by what surprised the estimate it replaces
     std::fill(recent_surprises_.begin(), recent_surprises_.end(), false);
+    trial_surprise_ = 0;
     mean_ = estimate;
     covariance_ = covariance;
     pending_ = false;
@@ -381,6 +382,7 @@ class ActiveCalibrationController {
                          {"recent_innovations", doubles_to_json(recent_innovations_)},
                          {"recent_surprises", recent_surprises_},
                          {"innovation_count", innovation_count_},
+                         {"trial_surprise", trial_surprise_},
                          {"plant_regrets", doubles_to_json(plant_regrets_)},
                          {"regret_count", regret_count_},
                          {"report", json_state::report_to_json(report_)},
@@ -440,6 +442,8 @@ class ActiveCalibrationController {
     json_state::read_bools(field(saved, "recent_surprises"), "recent_surprises", recent_surprises);
     const auto innovation_count =
         static_cast<std::size_t>(json_state::read_count(saved, "innovation_count"));
+    const auto trial_surprise =
+        static_cast<std::size_t>(json_state::read_count(saved, "trial_surprise"));
     std::vector<double> plant_regrets = plant_regrets_;
     json_state::read_doubles(field(saved, "plant_regrets"), "plant_regrets", plant_regrets);
     const auto regret_count =
@@ -510,6 +514,7 @@ class ActiveCalibrationController {
     recent_innovations_.swap(recent_innovations);
     recent_surprises_.swap(recent_surprises);
     innovation_count_ = innovation_count;
+    trial_surprise_ = trial_surprise;
     plant_regrets_.swap(plant_regrets);
     regret_count_ = regret_count;
     audit_ = std::move(audit);
@@ -712,9 +717,12 @@ class ActiveCalibrationController {
     }
     step_.velocity_change = estimator_.changes() > changes_before;
     step_.normalized_residual = estimator_.normalized_residual(estimator_.history_size() - 1);
+    // During the trial (ActiveOptions::trial_innovations) a refit that explains z proves nothing.
+    const bool on_trial = innovation_count_ <= static_cast<std::size_t>(options_.trial_innovations);
     surprised_ =
         step_.normalized_innovation > options_.innovation_gate * options_.innovation_gate &&
-        step_.normalized_residual > 1.0;
+        (on_trial || step_.normalized_residual > 1.0);
+    if (surprised_ && on_trial) trial_surprise_ = innovation_count_;
     recent_surprises_[(innovation_count_ - 1) % recent_surprises_.size()] = surprised_;
     step_.misfit_scale = estimator_.misfit_scale();
     step_.prediction_scale = estimator_.prediction_scale();
@@ -823,6 +831,9 @@ class ActiveCalibrationController {
   // and stayed unexplained by its refit (ActiveOptions::hold_after_surprises): the twin does not
   // explain the plant there, whatever the estimate.
   [[nodiscard]] bool unexplained() const noexcept {
+    // A surprise of the trial holds alone while it is in the ring (trial_innovations).
+    if (trial_surprise_ > 0 && innovation_count_ - trial_surprise_ < recent_surprises_.size())
+      return true;
     if (options_.hold_after_surprises <= 0) return false;
     const auto count = std::count(recent_surprises_.begin(), recent_surprises_.end(), true);
     return count >= options_.hold_after_surprises;
@@ -954,6 +965,8 @@ class ActiveCalibrationController {
   std::vector<double> recent_innovations_;  // ν²/S of the last change_window + 3 (a ring)
   std::vector<bool> recent_surprises_;      // whether each of them surprised_ (the same ring)
   std::size_t innovation_count_ = 0;
+  // innovation_count_ just after the trial's last surprise (0: none; trial_innovations).
+  std::size_t trial_surprise_ = 0;
   bool quadratic_ = false;
   bool pending_ = false;
   Index assemblies_ = 0;

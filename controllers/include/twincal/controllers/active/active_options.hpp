@@ -102,6 +102,15 @@ struct ActiveOptions {
   /// held-out seed pairs −8.30 → −8.52 (summed paired excess); twins that are their own plant
   /// at most 0.022 × the baseline worse on a cell.
   Index hold_after_surprises = 2;
+  /// The episode's first trial_innovations innovations try the twin against the plant: a z
+  /// beyond innovation_gate among them is a surprise whatever its refit says, and this one
+  /// surprise holds the estimate back (as hold_after_surprises of them do later) while it is
+  /// among the last trajectory.change_window + 3 assemblies (0: no trial). Early the refit
+  /// cannot tell: with few more assemblies than the 2d of its offset and velocity it matches
+  /// almost any z, so the corrections that followed a plant's first misses were applied in
+  /// full; and a twin that is its own plant, with the estimator's prior, hardly ever misses its
+  /// first predictions by 5σ. restart() ends a trial surprise's hold, not the trial.
+  Index trial_innovations = 0;
   /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
   /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;
@@ -244,6 +253,7 @@ struct ActiveOptions {
              "hold_after_surprises", hold_after_surprises,
              "must lie in [0, trajectory.change_window + 3] = [0, {}]",
              trajectory.change_window + 3),
+         rule::at_least("trial_innovations", trial_innovations, Index{0}),
          rule::positive_finite("innovation_gate", innovation_gate),
          rule::positive_finite("covariance_floor", covariance_floor),
          rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
