@@ -264,6 +264,49 @@ TYPED_TEST(ActiveControllerTest, BoundsTheCorrectionRightAfterASurprise) {
   EXPECT_LT((restarted[13] - moved).cwiseAbs().maxCoeff(), 1e-8) << restarted[13].transpose();
 }
 
+// The episode of the surprise tests: a controller restarted at the plant's offset (0.3, −0.25,
+// 0.2) with P = 1e-6 I runs `steps` assemblies of the analytic twin with that offset, but for
+// assembly `jump`, whose answer comes from the offset moved by 0.6 on every locator.
+struct JumpRun {
+  std::vector<VectorX> controls;        // by proposal
+  std::vector<bool> corrected;          // by proposal
+  std::vector<bool> held_by_surprises;  // by proposal
+  std::vector<bool> gated;              // by observation: ν²/S beyond the gate (5²)
+  std::vector<bool> surprised;          // by observation: gated, and unexplained by the refit
+  nlohmann::json snapshot;              // the state before proposal `snapshot_at`
+};
+
+const VectorX& jump_offset() {
+  static const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
+  return offset;
+}
+
+template <typename C>
+JumpRun run_with_one_jump(const CountingTwin& counting, const ActiveOptions& options,
+                          std::optional<int> jump, int steps, int snapshot_at) {
+  const test_support::AnalyticTwin& twin = counting.twin();
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  C controller(counting, RandomStream(12), options);
+  controller.restart(jump_offset(),
+                     SquareMatrix<C::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+  JumpRun result;
+  for (int t = 0; t < steps; ++t) {
+    if (t == snapshot_at) result.snapshot = controller.save();
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+    const VectorX u = controller.propose(x);
+    result.controls.push_back(u);
+    result.corrected.push_back(controller.last_step().corrected);
+    result.held_by_surprises.push_back(controller.last_step().held_by_surprises);
+    expect_holds_explain_the_control(controller.last_step(), t);
+    const VectorX plant_offset = jump == t ? VectorX(jump_offset().array() + 0.6) : jump_offset();
+    controller.observe(x, u, twin.quality(x, VectorX(u - plant_offset)));
+    const ActiveStepReport& step = controller.last_step();
+    result.gated.push_back(step.normalized_innovation > 25.0);
+    result.surprised.push_back(result.gated.back() && step.normalized_residual > 1.0);
+  }
+  return result;
+}
+
 // With hold_after_surprises (2 by default), the estimate is not applied while that many of the
 // last change_window + 3 = 5 assemblies were surprises the refit does not explain. Here one
 // answer of the plant comes from an offset moved by 0.6 on every locator (assembly 10), among
@@ -275,41 +318,14 @@ TYPED_TEST(ActiveControllerTest, BoundsTheCorrectionRightAfterASurprise) {
 TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises) {
   const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
-  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
-  const std::vector<AssemblyId> assemblies = twin.assemblies();
-  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
   const auto options = [](Index hold) {
     return ActiveOptions{.max_probe_fraction = 1e-9, .hold_after_surprises = hold};
   };
-  const auto assembly = [&](int t) {
-    return assemblies[static_cast<std::size_t>(t) % assemblies.size()];
-  };
-  struct Run {
-    std::vector<bool> corrected;          // by proposal
-    std::vector<bool> held_by_surprises;  // by proposal
-    std::vector<bool> surprised;          // by observation
-    nlohmann::json before_12;             // the state after observation 11
-  };
   const auto run = [&](Index hold) {
-    TypeParam controller(counting, RandomStream(12), options(hold));
-    controller.restart(offset, identity * 1e-6);
-    Run result;
-    for (int t = 0; t < 19; ++t) {
-      if (t == 12) result.before_12 = controller.save();
-      const VectorX u = controller.propose(assembly(t));
-      result.corrected.push_back(controller.last_step().corrected);
-      result.held_by_surprises.push_back(controller.last_step().held_by_surprises);
-      expect_holds_explain_the_control(controller.last_step(), t);
-      const VectorX plant_offset = t == 10 ? VectorX(offset.array() + 0.6) : offset;
-      controller.observe(assembly(t), u, twin.quality(assembly(t), VectorX(u - plant_offset)));
-      const ActiveStepReport& step = controller.last_step();
-      result.surprised.push_back(step.normalized_innovation > 25.0 &&
-                                 step.normalized_residual > 1.0);
-    }
-    return result;
+    return run_with_one_jump<TypeParam>(counting, options(hold), 10, 19, 12);
   };
-  const Run by_default = run(ActiveOptions{}.hold_after_surprises);
-  const Run never = run(0);
+  const JumpRun by_default = run(ActiveOptions{}.hold_after_surprises);
+  const JumpRun never = run(0);
   for (std::size_t t = 0; t < 12; ++t) {
     EXPECT_TRUE(by_default.corrected[t] && never.corrected[t]) << "proposal " << t;
     EXPECT_FALSE(by_default.held_by_surprises[t]) << "proposal " << t;
@@ -331,13 +347,15 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
   EXPECT_TRUE(std::none_of(never.held_by_surprises.begin(), never.held_by_surprises.end(),
                            [](bool held) { return held; }));
 
+  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
+  const AssemblyId x = twin.assemblies()[12 % twin.assemblies().size()];
   TypeParam restored(counting, RandomStream(12), options(2));
-  restored.restore(by_default.before_12);
-  (void)restored.propose(assembly(12));
+  restored.restore(by_default.snapshot);
+  (void)restored.propose(x);
   EXPECT_FALSE(restored.last_step().corrected);
-  restored.restore(by_default.before_12);
-  restored.restart(offset, identity * 1e-6);
-  (void)restored.propose(assembly(12));
+  restored.restore(by_default.snapshot);
+  restored.restart(jump_offset(), identity * 1e-6);
+  (void)restored.propose(x);
   EXPECT_TRUE(restored.last_step().corrected);
 }
 
@@ -353,53 +371,26 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
 TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial) {
   const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
-  const VectorX offset = Eigen::Vector3d(0.3, -0.25, 0.2);
-  const std::vector<AssemblyId> assemblies = twin.assemblies();
-  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
   const auto options = [](Index trial) {
     return ActiveOptions{
         .max_probe_fraction = 1e-9, .hold_after_surprises = 0, .trial_innovations = trial};
   };
-  const auto assembly = [&](int t) {
-    return assemblies[static_cast<std::size_t>(t) % assemblies.size()];
-  };
-  struct Run {
-    std::vector<VectorX> controls;        // by proposal
-    std::vector<bool> corrected;          // by proposal
-    std::vector<bool> held_by_surprises;  // by proposal
-    std::vector<bool> gated;              // by observation: nu^2/S beyond the gate
-    nlohmann::json before_2;              // the state after observation 1
-  };
   const auto run = [&](Index trial, std::optional<int> jump) {
-    TypeParam controller(counting, RandomStream(12), options(trial));
-    controller.restart(offset, identity * 1e-6);
-    Run result;
-    for (int t = 0; t < 16; ++t) {
-      if (t == 2) result.before_2 = controller.save();
-      const VectorX u = controller.propose(assembly(t));
-      result.controls.push_back(u);
-      result.corrected.push_back(controller.last_step().corrected);
-      result.held_by_surprises.push_back(controller.last_step().held_by_surprises);
-      expect_holds_explain_the_control(controller.last_step(), t);
-      const VectorX plant_offset = jump == t ? VectorX(offset.array() + 0.6) : offset;
-      controller.observe(assembly(t), u, twin.quality(assembly(t), VectorX(u - plant_offset)));
-      result.gated.push_back(controller.last_step().normalized_innovation > 25.0);
-    }
-    return result;
+    return run_with_one_jump<TypeParam>(counting, options(trial), jump, 16, 2);
   };
 
-  const Run predicted = run(5, std::nullopt);
+  const JumpRun predicted = run(5, std::nullopt);
   EXPECT_EQ(predicted.controls, run(0, std::nullopt).controls);
   EXPECT_TRUE(std::none_of(predicted.gated.begin(), predicted.gated.end(),
                            [](bool gated) { return gated; }));
 
-  const Run trial = run(5, 1);
-  const Run no_trial = run(0, 1);
+  const JumpRun trial = run(5, 1);
+  const JumpRun no_trial = run(0, 1);
   ASSERT_TRUE(trial.gated[1]);
   // The last surprise of the trial (observations 0 … 4) and the proposals it holds.
   int last = 1;
   for (int t = 2; t < 5; ++t) last = trial.gated[static_cast<std::size_t>(t)] ? t : last;
-  const auto never_held = [](const Run& r) {
+  const auto never_held = [](const JumpRun& r) {
     return std::none_of(r.held_by_surprises.begin(), r.held_by_surprises.end(),
                         [](bool held) { return held; });
   };
@@ -414,18 +405,20 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial)
   EXPECT_TRUE(no_trial.corrected[2]);
   EXPECT_TRUE(never_held(no_trial));
 
-  const Run after_trial = run(5, 10);
+  const JumpRun after_trial = run(5, 10);
   ASSERT_TRUE(after_trial.gated[10]);
   EXPECT_TRUE(never_held(after_trial));
 
+  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
+  const AssemblyId x = twin.assemblies()[2];
   TypeParam restored(counting, RandomStream(12), options(5));
-  restored.restore(trial.before_2);
-  (void)restored.propose(assembly(2));
+  restored.restore(trial.snapshot);
+  (void)restored.propose(x);
   EXPECT_FALSE(restored.last_step().corrected);
   EXPECT_TRUE(restored.last_step().held_by_surprises);
-  restored.restore(trial.before_2);
-  restored.restart(offset, identity * 1e-6);
-  (void)restored.propose(assembly(2));
+  restored.restore(trial.snapshot);
+  restored.restart(jump_offset(), identity * 1e-6);
+  (void)restored.propose(x);
   EXPECT_TRUE(restored.last_step().corrected);
 }
 
@@ -715,8 +708,10 @@ TEST(ActiveController, PairsItsAuditedAssembliesOnlyAcrossAdjacentAssembliesOfDi
   const RuggedTwin twin(RuggedTwinOptions{}, RandomStream(5));
   const VectorX offset = Eigen::Vector3d(0.05, -0.04, 0.03);
   const std::vector<AssemblyId> assemblies = twin.assemblies();
-  // Its estimates beyond the correction's reach applied, clamped, as they make the audit's pairs.
-  const ActiveOptions options{.clamp_beyond_reach = true, .audit_period = 3, .audit_window = 4};
+  // Its estimates beyond the correction's reach applied, clamped, and no trial, whose first
+  // surprise holds the estimate back: both make the audit's pairs.
+  const ActiveOptions options{
+      .clamp_beyond_reach = true, .trial_innovations = 0, .audit_period = 3, .audit_window = 4};
   ActiveController<RuggedTwin, Dynamic> controller(twin, RandomStream(6), options);
   const auto window = static_cast<std::size_t>(options.audit_window);
   std::array<std::vector<double>, 2> expected{std::vector<double>(window, 0.0),

@@ -105,12 +105,20 @@ struct ActiveOptions {
   /// The episode's first trial_innovations innovations try the twin against the plant: a z
   /// beyond innovation_gate among them is a surprise whatever its refit says, and this one
   /// surprise holds the estimate back (as hold_after_surprises of them do later) while it is
-  /// among the last trajectory.change_window + 3 assemblies (0: no trial). Early the refit
-  /// cannot tell: with few more assemblies than the 2d of its offset and velocity it matches
-  /// almost any z, so the corrections that followed a plant's first misses were applied in
-  /// full; and a twin that is its own plant, with the estimator's prior, hardly ever misses its
-  /// first predictions by 5σ. restart() ends a trial surprise's hold, not the trial.
-  Index trial_innovations = 0;
+  /// among the last trajectory.change_window + 3 assemblies (0: no trial; 5, the default, is
+  /// that ring's length, the one value measured). Early the refit cannot tell: with few more
+  /// assemblies than the 2d of its offset and velocity it matches almost any z, so the
+  /// corrections that followed a plant's first misses were applied in full. A twin that is its
+  /// own plant hardly ever misses its first predictions by 5σ: in 2 of 320 runs over the
+  /// quadratic twins (analytic d = 3 … 32, body, door; four seed pairs); later the drift's turns
+  /// do. Measured on 2026-11-30 against 0 (docs/reproduction.md, "A trial of the twin's first
+  /// predictions"): the CalculiX lap joint behind its small-displacement map, 10 runs × 100
+  /// assemblies on parts never run before, paired excess over the baseline +0.37 → +0.16 (its
+  /// spread 0.66); the analytic plants with kinks 7 of 8 cells down; the user's shapes as plants
+  /// on 14 seed pairs −23.11 → −23.24 summed (one cell 0.79× → 0.99× the baseline); twins that
+  /// are their own plant at most 0.012× the baseline apart on a cell.
+  /// restart() ends a trial surprise's hold, not the trial.
+  Index trial_innovations = 5;
   /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
   /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;

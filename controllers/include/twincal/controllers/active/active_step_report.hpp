@@ -53,7 +53,8 @@ struct ActiveStepReport {
   /// The plant keeps surprising the estimate: innovations beyond the gate in at least
   /// change_window + 2 of the last change_window + 3 assemblies.
   bool held_by_innovations = false;
-  /// Surprises that the refit did not explain (ActiveOptions::hold_after_surprises).
+  /// Surprises that the refit did not explain (ActiveOptions::hold_after_surprises), or one
+  /// among the episode's first innovations (ActiveOptions::trial_innovations).
   bool held_by_surprises = false;
   /// The estimate lies beyond the correction's reach (ActiveOptions::clamp_beyond_reach).
   bool held_beyond_reach = false;
