@@ -271,6 +271,7 @@ struct JumpRun {
   std::vector<VectorX> controls;        // by proposal
   std::vector<bool> corrected;          // by proposal
   std::vector<bool> held_by_surprises;  // by proposal
+  std::vector<bool> audited;            // by proposal
   std::vector<bool> gated;              // by observation: ν²/S beyond the gate (5²)
   std::vector<bool> surprised;          // by observation: gated, and unexplained by the refit
   nlohmann::json snapshot;              // the state before proposal `snapshot_at`
@@ -297,6 +298,7 @@ JumpRun run_with_one_jump(const CountingTwin& counting, const ActiveOptions& opt
     result.controls.push_back(u);
     result.corrected.push_back(controller.last_step().corrected);
     result.held_by_surprises.push_back(controller.last_step().held_by_surprises);
+    result.audited.push_back(controller.last_step().audited);
     expect_holds_explain_the_control(controller.last_step(), t);
     const VectorX plant_offset = jump == t ? VectorX(jump_offset().array() + 0.6) : jump_offset();
     controller.observe(x, u, twin.quality(x, VectorX(u - plant_offset)));
@@ -420,6 +422,46 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial)
   restored.restart(jump_offset(), identity * 1e-6);
   (void)restored.propose(x);
   EXPECT_TRUE(restored.last_step().corrected);
+}
+
+// With audit_after_failed_trial, a twin whose trial saw a surprise is in doubt from then on:
+// its corrections are audited on the plant's answers, although its model passes its check and
+// one jump of the plant leaves the prediction scale far below audit_misfit. Without the option,
+// or without a failed trial (no jump, or the jump after the trial), nothing is audited. A
+// snapshot keeps the doubt, and so does restart().
+TYPED_TEST(ActiveControllerTest, AuditsATwinThatFailedItsTrial) {
+  const test_support::AnalyticTwin twin = test_support::make_twin(3);
+  const CountingTwin counting(twin);
+  const auto options = [](bool audit) {
+    return ActiveOptions{.max_probe_fraction = 1e-9,
+                         .hold_after_surprises = 0,
+                         .trial_innovations = 5,
+                         .audit_after_failed_trial = audit};
+  };
+  const auto run = [&](bool audit, std::optional<int> jump) {
+    return run_with_one_jump<TypeParam>(counting, options(audit), jump, 30, 20);
+  };
+  const auto audits = [](const JumpRun& r) {
+    return std::count(r.audited.begin(), r.audited.end(), true);
+  };
+  const JumpRun failed = run(true, 1);
+  EXPECT_FALSE(failed.audited[0] || failed.audited[1]);
+  EXPECT_GT(audits(failed), 10);
+  EXPECT_EQ(audits(run(false, 1)), 0);
+  EXPECT_EQ(audits(run(true, std::nullopt)), 0);
+  EXPECT_EQ(audits(run(true, 10)), 0);
+
+  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
+  const AssemblyId x = twin.assemblies()[20 % twin.assemblies().size()];
+  TypeParam restored(counting, RandomStream(12), options(true));
+  restored.restore(failed.snapshot);
+  (void)restored.propose(x);
+  EXPECT_EQ(restored.last_step().audited, failed.audited[20]);
+  EXPECT_TRUE(restored.last_step().audited);
+  restored.restore(failed.snapshot);
+  restored.restart(jump_offset(), identity * 1e-6);
+  (void)restored.propose(x);
+  EXPECT_TRUE(restored.last_step().audited);
 }
 
 TYPED_TEST(ActiveControllerTest, RefusesANonFiniteQualityAndKeepsItsState) {

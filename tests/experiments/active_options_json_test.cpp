@@ -60,6 +60,7 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"surprise_step_fraction", 0.1, [](auto& o) { return o.surprise_step_fraction == 0.1; }},
       {"hold_after_surprises", 3, [](auto& o) { return o.hold_after_surprises == 3; }},
       {"trial_innovations", 3, [](auto& o) { return o.trial_innovations == 3; }},
+      {"audit_after_failed_trial", false, [](auto& o) { return !o.audit_after_failed_trial; }},
       {"innovation_gate", 4.0, [](auto& o) { return o.innovation_gate == 4.0; }},
       {"covariance_floor", 1e-11, [](auto& o) { return o.covariance_floor == 1e-11; }},
       {"covariance_ceiling_fraction", 0.9,

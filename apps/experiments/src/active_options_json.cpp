@@ -23,7 +23,7 @@ struct OptionField {
   std::variant<double Options::*, Index Options::*, int Options::*, bool Options::*> member;
 };
 
-constexpr std::array<OptionField<ActiveOptions>, 27> active_fields{{
+constexpr std::array<OptionField<ActiveOptions>, 28> active_fields{{
     {"process_variance", &ActiveOptions::process_variance},
     {"min_process_variance", &ActiveOptions::min_process_variance},
     {"max_process_variance", &ActiveOptions::max_process_variance},
@@ -36,6 +36,7 @@ constexpr std::array<OptionField<ActiveOptions>, 27> active_fields{{
     {"surprise_step_fraction", &ActiveOptions::surprise_step_fraction},
     {"hold_after_surprises", &ActiveOptions::hold_after_surprises},
     {"trial_innovations", &ActiveOptions::trial_innovations},
+    {"audit_after_failed_trial", &ActiveOptions::audit_after_failed_trial},
     {"innovation_gate", &ActiveOptions::innovation_gate},
     {"covariance_floor", &ActiveOptions::covariance_floor},
     {"covariance_ceiling_fraction", &ActiveOptions::covariance_ceiling_fraction},

@@ -22,7 +22,8 @@
 ///      after a surprise (a z the estimate neither predicted nor explains once refitted) it
 ///      moves at most ActiveOptions::surprise_step_fraction of the box from the last one applied
 ///      (always, with correction_step_fraction), and after hold_after_surprises such surprises
-///      within a few assemblies it is not applied;
+///      within a few assemblies it is not applied, nor after one among the episode's first
+///      (trial_innovations), after which the correction is also audited (audit_after_failed_trial);
 ///   5. observe: z_t joins the estimator's history (or updates the random-walk filter, with an
 ///      innovation gate that inflates an overconfident P, process noise adapted to the
 ///      normalized innovations, and a floor and a ceiling on P's eigenvalues).
@@ -383,6 +384,7 @@ class ActiveCalibrationController {
                          {"recent_surprises", recent_surprises_},
                          {"innovation_count", innovation_count_},
                          {"trial_surprise", trial_surprise_},
+                         {"trial_failed", trial_failed_},
                          {"plant_regrets", doubles_to_json(plant_regrets_)},
                          {"regret_count", regret_count_},
                          {"report", json_state::report_to_json(report_)},
@@ -444,6 +446,7 @@ class ActiveCalibrationController {
         static_cast<std::size_t>(json_state::read_count(saved, "innovation_count"));
     const auto trial_surprise =
         static_cast<std::size_t>(json_state::read_count(saved, "trial_surprise"));
+    const bool trial_failed = read_bool(saved, "trial_failed");
     std::vector<double> plant_regrets = plant_regrets_;
     json_state::read_doubles(field(saved, "plant_regrets"), "plant_regrets", plant_regrets);
     const auto regret_count =
@@ -515,6 +518,7 @@ class ActiveCalibrationController {
     recent_surprises_.swap(recent_surprises);
     innovation_count_ = innovation_count;
     trial_surprise_ = trial_surprise;
+    trial_failed_ = trial_failed;
     plant_regrets_.swap(plant_regrets);
     regret_count_ = regret_count;
     audit_ = std::move(audit);
@@ -722,7 +726,10 @@ class ActiveCalibrationController {
     surprised_ =
         step_.normalized_innovation > options_.innovation_gate * options_.innovation_gate &&
         (on_trial || step_.normalized_residual > 1.0);
-    if (surprised_ && on_trial) trial_surprise_ = innovation_count_;
+    if (surprised_ && on_trial) {
+      trial_surprise_ = innovation_count_;
+      trial_failed_ = true;
+    }
     recent_surprises_[(innovation_count_ - 1) % recent_surprises_.size()] = surprised_;
     step_.misfit_scale = estimator_.misfit_scale();
     step_.prediction_scale = estimator_.prediction_scale();
@@ -781,10 +788,10 @@ class ActiveCalibrationController {
 
   // Do no harm, measured (DoNoHarmAudit): where the estimate is in doubt — the twin's model
   // failed its check (τ² > 0), or the estimator's innovations misfit the plant by audit_misfit or
-  // more (its prediction_scale(): a plant that is not the twin) — every assembly whose estimate
-  // would be applied is audited (one held_back() joins the uncorrected arm). After the
-  // model's fit, from its own check; with fit_at_audited_arm before it (audit_decision), from the
-  // last assembly's.
+  // more (its prediction_scale(): a plant that is not the twin), or the twin failed its trial
+  // (audit_after_failed_trial) — every assembly whose estimate would be applied is audited (one
+  // held_back() joins the uncorrected arm). After the model's fit, from its own check; with
+  // fit_at_audited_arm before it (audit_decision), from the last assembly's.
   void audit(bool wanted) {
     step_.audited = false;
     if (!quadratic_ || !wanted) return;
@@ -794,9 +801,11 @@ class ActiveCalibrationController {
   }
 
   // The audit's arm for an assembly whose estimate would be applied: in doubt where a model
-  // erred or the estimator misfits the plant by audit_misfit or more (DoNoHarmAudit::decide).
+  // erred, the estimator misfits the plant by audit_misfit or more, or the twin failed its trial
+  // (DoNoHarmAudit::decide).
   [[nodiscard]] std::optional<bool> audit_decision(bool erring_model, bool held_back) {
-    const bool doubt = erring_model || estimator_.prediction_scale() >= options_.audit_misfit;
+    const bool doubt = erring_model || estimator_.prediction_scale() >= options_.audit_misfit ||
+                       (options_.audit_after_failed_trial && trial_failed_);
     return audit_.decide(doubt, erring_model, held_back);
   }
 
@@ -967,6 +976,8 @@ class ActiveCalibrationController {
   std::size_t innovation_count_ = 0;
   // innovation_count_ just after the trial's last surprise (0: none; trial_innovations).
   std::size_t trial_surprise_ = 0;
+  // A surprise of the trial was seen (ActiveOptions::audit_after_failed_trial); restart() keeps it.
+  bool trial_failed_ = false;
   bool quadratic_ = false;
   bool pending_ = false;
   Index assemblies_ = 0;

@@ -119,6 +119,18 @@ struct ActiveOptions {
   /// are their own plant at most 0.012× the baseline apart on a cell.
   /// restart() ends a trial surprise's hold, not the trial.
   Index trial_innovations = 5;
+  /// A twin that failed its trial (a surprise among the first trial_innovations innovations) is
+  /// in doubt for the rest of the episode: its corrections are audited on the plant's answers
+  /// (audit_period) as where its models err, from the trial's end, not from when the prediction
+  /// scale reaches audit_misfit, which speaks only once half its window is in. A twin that is its
+  /// own plant hardly ever fails the trial, and one whose models err is audited anyway. Measured
+  /// on 2026-11-30 against false (docs/reproduction.md, "A trial of the twin's first
+  /// predictions"): the CalculiX lap joint behind its small-displacement map (10 runs × 100
+  /// assemblies) +0.160 → +0.119 above the baseline, assemblies 6–19 +0.58 → +0.29; the analytic
+  /// plants with kinks at d = 12 +0.068–0.077 → +0.027–0.054. What it costs: the user's shapes
+  /// as plants, held out, −23.24 → −23.10 summed over 168 cells (lost 391 → 395); of twins that
+  /// are their own plant only runs that fail the trial change.
+  bool audit_after_failed_trial = true;
   /// Normalized-innovation gate of the sigma-point mode: |ν|/√S above it means the filter is
   /// overconfident; P is inflated by (ν²/S)/gate² before the update.
   double innovation_gate = 5.0;
