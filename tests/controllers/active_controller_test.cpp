@@ -369,7 +369,8 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
 // until that surprise and any the trial saw after it have left the ring, where the controller
 // without a trial applies them; the same jump at assembly 10, after the trial, holds nothing.
 // Where the twin predicts the plant the trial changes no control. A snapshot taken during the
-// hold holds once restored, and restart() ends the hold.
+// hold holds once restored (one whose trial surprise lies beyond the innovations counted is
+// refused), and restart() ends the hold.
 TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial) {
   const test_support::AnalyticTwin twin = test_support::make_twin(3);
   const CountingTwin counting(twin);
@@ -414,6 +415,14 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial)
   const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
   const AssemblyId x = twin.assemblies()[2];
   TypeParam restored(counting, RandomStream(12), options(5));
+  // A trial's surprise later than the innovations counted is refused, the state unchanged.
+  nlohmann::json bad = trial.snapshot;
+  bad["trial_surprise"] = 3;  // two innovations were counted
+  const std::string before = restored.save().dump();
+  EXPECT_THAT([&] { restored.restore(bad); },
+              ::testing::ThrowsMessage<InvalidArgumentError>(
+                  ::testing::HasSubstr("trial_surprise: is 3; rule: must lie in [0, 2]")));
+  EXPECT_EQ(restored.save().dump(), before);
   restored.restore(trial.snapshot);
   (void)restored.propose(x);
   EXPECT_FALSE(restored.last_step().corrected);

@@ -444,8 +444,9 @@ class ActiveCalibrationController {
     json_state::read_bools(field(saved, "recent_surprises"), "recent_surprises", recent_surprises);
     const auto innovation_count =
         static_cast<std::size_t>(json_state::read_count(saved, "innovation_count"));
-    const auto trial_surprise =
-        static_cast<std::size_t>(json_state::read_count(saved, "trial_surprise"));
+    // A surprise of the trial is one of the innovations counted so far (or none, 0).
+    const auto trial_surprise = static_cast<std::size_t>(
+        read_integer_field(saved, "trial_surprise", 0, static_cast<Index>(innovation_count)));
     const bool trial_failed = read_bool(saved, "trial_failed");
     std::vector<double> plant_regrets = plant_regrets_;
     json_state::read_doubles(field(saved, "plant_regrets"), "plant_regrets", plant_regrets);
