@@ -282,18 +282,29 @@ const VectorX& jump_offset() {
   return offset;
 }
 
+// Assembly t of the surprise tests' episode (the twin's assemblies in turn).
+AssemblyId jump_assembly(const test_support::AnalyticTwin& twin, int t) {
+  const std::vector<AssemblyId> assemblies = twin.assemblies();
+  return assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+}
+
+// The restart the surprise tests' episode starts from: δû = the plant's offset, P = 1e-6 I.
+template <typename C>
+void restart_at_jump_offset(C& controller) {
+  controller.restart(jump_offset(),
+                     SquareMatrix<C::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+}
+
 template <typename C>
 JumpRun run_with_one_jump(const CountingTwin& counting, const ActiveOptions& options,
                           std::optional<int> jump, int steps, int snapshot_at) {
   const test_support::AnalyticTwin& twin = counting.twin();
-  const std::vector<AssemblyId> assemblies = twin.assemblies();
   C controller(counting, RandomStream(12), options);
-  controller.restart(jump_offset(),
-                     SquareMatrix<C::dimension_at_compile_time>::Identity(3, 3) * 1e-6);
+  restart_at_jump_offset(controller);
   JumpRun result;
   for (int t = 0; t < steps; ++t) {
     if (t == snapshot_at) result.snapshot = controller.save();
-    const AssemblyId& x = assemblies[static_cast<std::size_t>(t) % assemblies.size()];
+    const AssemblyId x = jump_assembly(twin, t);
     const VectorX u = controller.propose(x);
     result.controls.push_back(u);
     result.corrected.push_back(controller.last_step().corrected);
@@ -349,14 +360,13 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterUnexplainedSurprises
   EXPECT_TRUE(std::none_of(never.held_by_surprises.begin(), never.held_by_surprises.end(),
                            [](bool held) { return held; }));
 
-  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
-  const AssemblyId x = twin.assemblies()[12 % twin.assemblies().size()];
+  const AssemblyId x = jump_assembly(twin, 12);
   TypeParam restored(counting, RandomStream(12), options(2));
   restored.restore(by_default.snapshot);
   (void)restored.propose(x);
   EXPECT_FALSE(restored.last_step().corrected);
   restored.restore(by_default.snapshot);
-  restored.restart(jump_offset(), identity * 1e-6);
+  restart_at_jump_offset(restored);
   (void)restored.propose(x);
   EXPECT_TRUE(restored.last_step().corrected);
 }
@@ -412,8 +422,7 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial)
   ASSERT_TRUE(after_trial.gated[10]);
   EXPECT_TRUE(never_held(after_trial));
 
-  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
-  const AssemblyId x = twin.assemblies()[2];
+  const AssemblyId x = jump_assembly(twin, 2);
   TypeParam restored(counting, RandomStream(12), options(5));
   // A trial's surprise later than the innovations counted is refused, the state unchanged.
   nlohmann::json bad = trial.snapshot;
@@ -428,7 +437,7 @@ TYPED_TEST(ActiveControllerTest, HoldsTheCorrectionBackAfterASurpriseOfTheTrial)
   EXPECT_FALSE(restored.last_step().corrected);
   EXPECT_TRUE(restored.last_step().held_by_surprises);
   restored.restore(trial.snapshot);
-  restored.restart(jump_offset(), identity * 1e-6);
+  restart_at_jump_offset(restored);
   (void)restored.propose(x);
   EXPECT_TRUE(restored.last_step().corrected);
 }
@@ -460,15 +469,14 @@ TYPED_TEST(ActiveControllerTest, AuditsATwinThatFailedItsTrial) {
   EXPECT_EQ(audits(run(true, std::nullopt)), 0);
   EXPECT_EQ(audits(run(true, 10)), 0);
 
-  const auto identity = SquareMatrix<TypeParam::dimension_at_compile_time>::Identity(3, 3);
-  const AssemblyId x = twin.assemblies()[20 % twin.assemblies().size()];
+  const AssemblyId x = jump_assembly(twin, 20);
   TypeParam restored(counting, RandomStream(12), options(true));
   restored.restore(failed.snapshot);
   (void)restored.propose(x);
   EXPECT_EQ(restored.last_step().audited, failed.audited[20]);
   EXPECT_TRUE(restored.last_step().audited);
   restored.restore(failed.snapshot);
-  restored.restart(jump_offset(), identity * 1e-6);
+  restart_at_jump_offset(restored);
   (void)restored.propose(x);
   EXPECT_TRUE(restored.last_step().audited);
 }
