@@ -106,6 +106,8 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"trajectory.step_tolerance", 1e-9,
        [](auto& o) { return o.trajectory.step_tolerance == 1e-9; }},
       {"surrogate.step_fraction", 0.04, [](auto& o) { return o.surrogate.step_fraction == 0.04; }},
+      {"surrogate.quality_step_fraction", 0.03,
+       [](auto& o) { return o.surrogate.quality_step_fraction == 0.03; }},
       {"surrogate.hessian_refresh", 10, [](auto& o) { return o.surrogate.hessian_refresh == 10; }},
       {"surrogate.tolerance", 2e-3, [](auto& o) { return o.surrogate.tolerance == 2e-3; }},
       {"surrogate.from_deviations", false, [](auto& o) { return !o.surrogate.from_deviations; }},

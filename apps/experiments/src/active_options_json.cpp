@@ -75,8 +75,9 @@ constexpr std::array<OptionField<ConstantVelocityOptions>, 18> trajectory_fields
     {"step_tolerance", &ConstantVelocityOptions::step_tolerance},
 }};
 
-constexpr std::array<OptionField<QuadraticSurrogateOptions>, 4> surrogate_fields{{
+constexpr std::array<OptionField<QuadraticSurrogateOptions>, 5> surrogate_fields{{
     {"step_fraction", &QuadraticSurrogateOptions::step_fraction},
+    {"quality_step_fraction", &QuadraticSurrogateOptions::quality_step_fraction},
     {"hessian_refresh", &QuadraticSurrogateOptions::hessian_refresh},
     {"tolerance", &QuadraticSurrogateOptions::tolerance},
     {"from_deviations", &QuadraticSurrogateOptions::from_deviations},

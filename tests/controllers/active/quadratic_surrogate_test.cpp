@@ -228,9 +228,31 @@ TEST(QuadraticSurrogateFromDeviations, FitsFromTheQualityWhereTheTwinHasNoKeyPoi
   EXPECT_EQ(surrogate.fit(AssemblyId{0, 0}, twin.optimum(AssemblyId{0, 0}), model), 15U);
 }
 
+// The step follows the model's source: step_fraction of the box from the deviations,
+// quality_step_fraction from Q² (a twin without key points, or from_deviations off).
+TEST(QuadraticSurrogateFromDeviations, StepsByTheModelsSource) {
+  const KeyPointTwin<NoNonlinearity> twin = affine_key_points();
+  const VectorX width = twin.upper_bounds() - twin.lower_bounds();
+  const QuadraticSurrogateOptions options{.step_fraction = 0.04, .quality_step_fraction = 0.01};
+  const QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, Dynamic> from_deviations(twin, options);
+  ASSERT_TRUE(from_deviations.uses_deviations());
+  EXPECT_EQ(from_deviations.steps(), VectorX(0.04 * width));
+  QuadraticSurrogateOptions quality = options;
+  quality.from_deviations = false;
+  const QuadraticSurrogate<KeyPointTwin<NoNonlinearity>, Dynamic> from_squares(twin, quality);
+  ASSERT_FALSE(from_squares.uses_deviations());
+  EXPECT_EQ(from_squares.steps(), VectorX(0.01 * width));
+  const test_support::AnalyticTwin analytic = test_support::make_twin(4);
+  const QuadraticSurrogate<test_support::AnalyticTwin, Dynamic> only_quality(analytic, options);
+  EXPECT_EQ(only_quality.steps(),
+            VectorX(0.01 * (analytic.upper_bounds() - analytic.lower_bounds())));
+}
+
 TEST(QuadraticSurrogate, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(QuadraticSurrogateOptions{.step_fraction = 0.0}.validate(),
             "step_fraction: value is 0; rule: must lie in (0, 0.5]");
+  EXPECT_EQ(QuadraticSurrogateOptions{.quality_step_fraction = 0.6}.validate(),
+            "quality_step_fraction: value is 0.6; rule: must lie in (0, 0.5]");
   EXPECT_EQ(QuadraticSurrogateOptions{.hessian_refresh = 0}.validate(),
             "hessian_refresh: value is 0; rule: must be >= 1");
 }

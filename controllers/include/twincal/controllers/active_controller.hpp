@@ -140,7 +140,7 @@ class ActiveCalibrationController {
     max_surprise_step_ = options_.surprise_step_fraction * width;
     applied_correction_.setZero(d);
     correction_.resize(d);
-    check_margin_ = options_.surrogate.step_fraction * width;
+    check_margin_ = surrogate_.steps();
     covariance_ceiling_ = std::pow(options_.covariance_ceiling_fraction * width.minCoeff(), 2);
     probe_vector_.resize(d);
     control_.setZero(d);  // defined before the first proposal: snapshots save it
