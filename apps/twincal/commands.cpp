@@ -162,6 +162,9 @@ void print_study(const std::vector<ExperimentGroup>& groups, const ResultStore& 
   if (const std::string searches = format_optimum_searches(studied); !searches.empty()) {
     fmt::print("\n{}", searches);
   }
+  if (const std::string models = format_active_models(studied); !models.empty()) {
+    fmt::print("\n{}", models);
+  }
 }
 
 #if TWINCAL_WITH_MPI

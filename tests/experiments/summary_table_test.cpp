@@ -104,6 +104,25 @@ TEST(FormatDepartures, OneLinePerGroupWithARecordedDeparture) {
   EXPECT_EQ(format_departures(json::array()), "");
 }
 
+TEST(FormatActiveModels, OneLinePerGroupWithAnActiveControllerNamingWhatItsModelsComeFrom) {
+  const json groups = json::array(
+      {json{{"name", "body/all"},
+            {"twin", {{"active_models", {{"from", "deviations"}, {"key_points", 40}}}}}},
+       json{{"name", "external/all"},
+            {"twin", {{"active_models", {{"from", "quality"}, {"key_points", 0}}}}}},
+       json{{"name", "analytic/all/contact"},
+            {"twin", {{"active_models", {{"from", "quality"}, {"key_points", 60}}}}}},
+       json{{"name", "door/A"}, {"twin", {{"active_models", nullptr}}}},
+       json{{"name", "old"}, {"twin", {{"dimension", 3}}}}});
+  EXPECT_EQ(format_active_models(groups),
+            "body/all: the active controller models Q² from the twin's 40 key points' "
+            "deviations\nexternal/all: the active controller models Q² from the quality alone "
+            "(the twin answers no key points: docs/external.md, key_points)\n"
+            "analytic/all/contact: the active controller models Q² from the quality alone "
+            "(surrogate.from_deviations is off)\n");
+  EXPECT_EQ(format_active_models(json::array()), "");
+}
+
 TEST(FormatOptimumSearches, OneLinePerGroupWhoseTwinOrPlantSearchedU0) {
   const json groups = json::array(
       {json{{"name", "external/all"},

@@ -131,6 +131,23 @@ std::string format_departures(const json& groups) {
                              });
 }
 
+std::string format_active_models(const json& groups) {
+  return lines_of_twin_field(
+      groups, "active_models", [](const std::string& name, const json& models) {
+        const auto key_points = models.at("key_points").get<Index>();
+        if (models.at("from").get<std::string>() == "deviations") {
+          return fmt::format(
+              "{}: the active controller models Q² from the twin's {} key points' deviations\n",
+              name, key_points);
+        }
+        return fmt::format("{}: the active controller models Q² from the quality alone ({})\n",
+                           name,
+                           key_points == 0 ? "the twin answers no key points: docs/external.md, "
+                                             "key_points"
+                                           : "surrogate.from_deviations is off");
+      });
+}
+
 std::string format_optimum_searches(const json& groups) {
   const auto line = [](const std::string& name, const char* whose, const json& search) {
     return fmt::format(

@@ -44,6 +44,12 @@ struct SummaryRow {
 /// Empty when no group has one.
 [[nodiscard]] std::string format_departures(const nlohmann::json& groups);
 
+/// One line per group with an active controller (ResultStore::add_group): whether its local
+/// models of Q² come from the twin's key points' deviations or from the quality alone (a twin
+/// that answers no key points, or QuadraticSurrogateOptions::from_deviations off), which models
+/// contact twins less well. Empty when no group has one.
+[[nodiscard]] std::string format_active_models(const nlohmann::json& groups);
+
 /// One line per group whose twin searched u0(x) (eq. 3; ResultStore::add_group): its twin
 /// evaluations and requests per assembly, what a new assembly costs before the controller's own
 /// calls (the Q/assembly column). Empty when no group searched.
