@@ -246,6 +246,8 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
   // What u0 cost where it is searched (the budget a real twin pays before the controller), and
   // what the plant's z* cost where the plant is another program.
   twin_json["optimum_search"] = optimum_search_json(twin.full_twin());
+  twin_json["plant_optimum_search"] =
+      twin.plant() ? optimum_search_json(*twin.plant()) : json(nullptr);
   // What the active controller's local models come from: the twin's key points' deviations
   // where it answers them, or Q² alone, which models contact twins less well
   // (docs/reproduction.md, "Black-box twins that answer only Q").
@@ -253,14 +255,10 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
       config.controllers.begin(), config.controllers.end(),
       [](const ControllerSpec& spec) { return spec.kind == ControllerSpec::Kind::active; });
   const Index key_points = twin.key_point_count();
+  const char* source =
+      key_points > 0 && config.active.surrogate.from_deviations ? "deviations" : "quality";
   twin_json["active_models"] =
-      active
-          ? json{{"from", key_points > 0 && config.active.surrogate.from_deviations ? "deviations"
-                                                                                    : "quality"},
-                 {"key_points", key_points}}
-          : json(nullptr);
-  twin_json["plant_optimum_search"] =
-      twin.plant() ? optimum_search_json(*twin.plant()) : json(nullptr);
+      active ? json{{"from", source}, {"key_points", key_points}} : json(nullptr);
   groups_.push_back(json{{"name", name},
                          {"config", config},
                          {"tags", group.tags},

@@ -59,8 +59,8 @@ struct QuadraticSurrogateOptions {
   /// averages the pieces of a contact twin they fall on, and a shorter stencil falls on fewer.
   /// Measured on twins answering only Q (docs/reproduction.md, "Black-box twins that answer only
   /// Q"): contact over 15 cells 5.12 → 2.79 × their baselines summed, lost runs 25 → 9;
-  /// the user's continuous shapes better or level; kinks 3.01 → 3.24 (0 → 3 lost); a quality
-  /// that jumps (the snap shape, d = 12) far worse, 22 → 82 lost of 100.
+  /// the user's continuous shapes over 180 cells 28.72 → 24.21, lost 17 → 13; kinks 3.01 → 3.24
+  /// (0 → 3 lost); a quality that jumps (the snap shape, d = 12) far worse, 22 → 82 lost of 100.
   double quality_step_fraction = 0.025;
   /// Assemblies between full fits of H (of J, from the deviations; 1: every assembly).
   Index hessian_refresh = 25;
