@@ -580,10 +580,7 @@ struct RuggedPlant {
 // twin whose model passes its check the option changes nothing, control for control.
 TEST(ActiveController, PricesItsProbeByThePlantsRegretWhereTheModelErrs) {
   const RuggedPlant plant;
-  // The Q² fits' step the episode was written for (the default until 2026-12-01); at the
-  // shorter default 15 of its 30 assemblies are priced, where the check below asks for more.
   ActiveOptions options;
-  options.surrogate.quality_step_fraction = 0.05;
   ActiveController<RuggedTwin, Dynamic> priced(plant.twin, RandomStream(6), options);
   options.regret_probe = 0.0;
   ActiveController<RuggedTwin, Dynamic> unpriced(plant.twin, RandomStream(6), options);

@@ -45,7 +45,7 @@ TEST_F(QuadraticSurrogateOnAnalyticTwin, FitsTheSquaredQualityOfAQuadraticTwinEx
 }
 
 // An earlier assembly's model refitted elsewhere with a given H (the active controller's
-// relinearization): d + 1 evaluations, exact for a quadratic twin, and the surrogate's own H and
+// relinearization): 2d + 1 evaluations, exact for a quadratic twin, and the surrogate's own H and
 // its age untouched.
 TEST_F(QuadraticSurrogateOnAnalyticTwin, RefitsAGradientWithAGivenHessianAndKeepsItsOwn) {
   const AssemblyId x{3, 7};
@@ -54,8 +54,9 @@ TEST_F(QuadraticSurrogateOnAnalyticTwin, RefitsAGradientWithAGivenHessianAndKeep
   const bool stale = surrogate_.hessian_stale();
   const VectorX center = twin_.optimum(x) + VectorX::LinSpaced(4, -0.2, 0.3);
   QuadraticModel<Dynamic> refitted;
-  EXPECT_EQ(surrogate_.refit_gradient(x, center, twin_.curvature(), refitted), 5U);
-  EXPECT_EQ(counting_.stats().evaluations, 15U + 5U);
+  EXPECT_EQ(surrogate_.refit_gradient(x, center, twin_.curvature(), refitted), 9U);
+  EXPECT_EQ(surrogate_.refit_evaluations(), 9);
+  EXPECT_EQ(counting_.stats().evaluations, 15U + 9U);
   const VectorX gradient = twin_.curvature() * (center - twin_.optimum(x));
   EXPECT_LT((refitted.half_gradient - gradient).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_EQ(refitted.center, center);
@@ -67,6 +68,24 @@ TEST_F(QuadraticSurrogateOnAnalyticTwin, RefitsAGradientWithAGivenHessianAndKeep
   EXPECT_THROW(
       static_cast<void>(surrogate_.refit_gradient(x, center, MatrixX::Identity(3, 3), refitted)),
       DimensionMismatchError);
+}
+
+// The controller refits only models that failed their check, whose H is wrong: the refit's
+// gradient comes from central differences and is exact for a quadratic Q² whatever H it is given
+// (forward differences corrected by a wrong H err by h (H − H_twin)_ii / 2 per locator).
+TEST_F(QuadraticSurrogateOnAnalyticTwin, RefitsTheGradientWhateverTheHessianItIsGiven) {
+  const AssemblyId x{5, 2};
+  const VectorX center = twin_.optimum(x) + VectorX::LinSpaced(4, 0.3, -0.1);
+  const VectorX gradient = twin_.curvature() * (center - twin_.optimum(x));
+  for (const double scale : {0.0, 0.5, 3.0}) {
+    const MatrixX wrong = scale * twin_.curvature() + MatrixX::Identity(4, 4);
+    QuadraticModel<Dynamic> refitted;
+    static_cast<void>(surrogate_.refit_gradient(x, center, wrong, refitted));
+    EXPECT_LT((refitted.half_gradient - gradient).cwiseAbs().maxCoeff(), 1e-9) << scale;
+    EXPECT_EQ(refitted.hessian, wrong);  // the model keeps the H it was given
+    const double q = twin_.quality(x, center);
+    EXPECT_NEAR(refitted.value, q * q, 1e-12);
+  }
 }
 
 TEST(QuadraticSurrogate, ItsCheckRejectsATwinThatIsNotQuadratic) {
@@ -111,6 +130,7 @@ TEST(QuadraticSurrogateFromDeviations, FitsTheModelOfAQuadraticFitIn2DPlusOneEva
   EXPECT_EQ(from_deviations.hessian, from_deviations.hessian.transpose());
   EXPECT_EQ(deviations.full_fit_evaluations(), 9);
   EXPECT_EQ(deviations.refit_evaluations(), 9);
+  EXPECT_EQ(squares.refit_evaluations(), 9);  // central differences from Q²
 
   // The next assembly keeps J: r at v0 alone, same exactness; after hessian_refresh
   // assemblies a full fit again.

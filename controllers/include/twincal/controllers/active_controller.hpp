@@ -747,8 +747,8 @@ class ActiveCalibrationController {
   // twin. Returns whether any entry changed.
   bool relinearize() {
     const Index d = dimension();
-    // The budget is in twin evaluations, relinearization_budget · (d + 1)²: 2 (d + 1) refits of
-    // d + 1 from Q², d + 1 of 2d + 1 from the deviations.
+    // The budget is in twin evaluations, relinearization_budget · (d + 1)²: about d + 1 refits
+    // of 2d + 1 evaluations (central differences from Q², Gauss–Newton from the deviations).
     const Index budget = static_cast<Index>(options_.relinearization_budget *
                                             static_cast<double>((d + 1) * (d + 1))) /
                          surrogate_.refit_evaluations();

@@ -154,17 +154,18 @@ struct ActiveOptions {
   /// fit now uses beyond relinearization_reach × their finite-difference stencil h on some
   /// locator (|r_i| > reach · h_i, r the entry's point under the fit minus its model's centre),
   /// are refitted where the fit puts them, farthest first, for at most relinearization_budget ·
-  /// (d + 1)² twin evaluations: 2 (d + 1) gradient fits with their H (d + 1 evaluations each)
-  /// from Q², d + 1 Gauss–Newton fits (2d + 1 each) from the key points' deviations (budget 0:
-  /// never; a twin whose assemblies cannot be kept never does). From the deviations, twice as
-  /// many refits of 2d + 1 (up to 4 (d + 1)² + 1 evaluations per assembly) did no better
-  /// (docs/reproduction.md, "Black-box twins"). Measured on contact twins (d = 6, 12): 1.1 and 1.0
-  /// × the baseline without, 0.43 and 0.71 × with a budget of 1 and a reach of 1. Since probes are
-  /// priced by the plant's regret, which moves entries further, a budget of 2 and a reach of 0.5
-  /// do better: over five development seed pairs (contact, stiffening, kinks at d = 3 … 19) the
-  /// sum of the ratios to the baseline went 19.1 → 16.5 for 1.1–1.8 × the evaluations, and the
-  /// held-out shapes at d = 3 from 0.82 / 0.91 to 0.37 / 0.50 × (soft stop / cubic); a budget of
-  /// 3 or a reach of 0 or 0.25 did about as well (docs/reproduction.md, "Black-box twins").
+  /// (d + 1)² twin evaluations: about d + 1 refits of 2d + 1 evaluations each, gradient fits by
+  /// central differences with their H kept from Q², Gauss–Newton fits from the key points'
+  /// deviations (budget 0: never; a twin whose assemblies cannot be kept never does). From the
+  /// deviations, twice as many refits of 2d + 1 (up to 4 (d + 1)² + 1 evaluations per assembly)
+  /// did no better (docs/reproduction.md, "Black-box twins"). Measured on contact twins (d = 6,
+  /// 12): 1.1 and 1.0 × the baseline without, 0.43 and 0.71 × with a budget of 1 and a reach of
+  /// 1. Since probes are priced by the plant's regret, which moves entries further, a budget of 2
+  /// and a reach of 0.5 do better: over five development seed pairs (contact, stiffening, kinks
+  /// at d = 3 … 19) the sum of the ratios to the baseline went 19.1 → 16.5 for 1.1–1.8 × the
+  /// evaluations, and the held-out shapes at d = 3 from 0.82 / 0.91 to 0.37 / 0.50 × (soft stop /
+  /// cubic); a budget of 3 or a reach of 0 or 0.25 did about as well (docs/reproduction.md,
+  /// "Black-box twins").
   double relinearization_budget = 2.0;
   double relinearization_reach = 0.5;
   /// Probes priced by the plant's regret: where the last assembly's model failed its check, a

@@ -9,6 +9,12 @@
 /// - Gradient fit: with H kept from the last full fit, Q² at v0 and v0 + h_i e_i, d + 1
 ///   evaluations, gives c and g. A compliant twin has one H for every assembly (y = A x + B u + c),
 ///   so the full fit is needed only every `hessian_refresh` assemblies.
+/// - Refit (refit_gradient(): an earlier assembly's model moved to where it is now used, its H
+///   given): Q² at v0 and v0 ± h_i e_i, 2d + 1 evaluations, g by central differences, which need
+///   no H. The controller refits only models that failed their check, so the given H is wrong
+///   there; forward differences corrected by it (d + 1 evaluations) left the analytic family
+///   answering only Q at 8.62 × its baselines summed over 48 cells with 11 runs lost, central
+///   ones at 7.12 with 3 (docs/reproduction.md, "Black-box twins that answer only Q").
 /// From the key points' deviations (a TwinWithDeviations with m > 0 key points, unless
 /// `from_deviations` is off), Gauss–Newton, with Q² = ‖r‖²/m:
 ///   c = ‖r(v0)‖²/m,  g = Jᵀr(v0)/m,  H = JᵀJ/m.
@@ -54,14 +60,13 @@ struct QuadraticSurrogateOptions {
   /// Finite-difference step per locator of fits from the key points' deviations, as a fraction
   /// of the twin's box width on that locator.
   double step_fraction = 0.05;
-  /// The same for fits from Q² alone (a twin that answers only its quality). Half the
-  /// deviations' step since 2026-12-01: a quadratic through Q² at (d + 1)(d + 2)/2 points
-  /// averages the pieces of a contact twin they fall on, and a shorter stencil falls on fewer.
-  /// Measured on twins answering only Q (docs/reproduction.md, "Black-box twins that answer only
-  /// Q"): contact over 15 cells 5.12 → 2.79 × their baselines summed, lost runs 25 → 9;
-  /// the user's continuous shapes over 180 cells 28.72 → 24.21, lost 17 → 13; kinks 3.01 → 3.24
-  /// (0 → 3 lost); a quality that jumps (the snap shape, d = 12) far worse, 22 → 82 lost of 100.
-  double quality_step_fraction = 0.025;
+  /// The same for fits from Q² alone (a twin that answers only its quality). Measured on twins
+  /// answering only Q with the refits' central differences (docs/reproduction.md, "Black-box
+  /// twins that answer only Q"): half of it, 0.025, took the analytic family's 48 cells from
+  /// 7.38 to 7.12 × their baselines summed, but the user's ten shapes over 200 cells from 29.03
+  /// (8 runs lost) to 31.05 (45): a quality that jumps (the snap shape, d = 12) from 2.40 to 6.74
+  /// (2 → 36 lost of 100), since a jump inside a shorter stencil is a larger difference quotient.
+  double quality_step_fraction = 0.05;
   /// Assemblies between full fits of H (of J, from the deviations; 1: every assembly).
   Index hessian_refresh = 25;
   /// Largest relative error |Q²_model − Q²_twin| / max(Q²_twin, c) accepted at the check points.
@@ -129,16 +134,14 @@ class QuadraticSurrogate {
   /// quality_step_fraction from Q².
   [[nodiscard]] const VectorX& steps() const noexcept { return steps_; }
   /// Evaluations of a full fit, (d + 1)(d + 2)/2 (2d + 1 from the deviations), of a gradient
-  /// fit, d + 1 (1), and of a refit_gradient(), d + 1 (2d + 1).
+  /// fit, d + 1 (1), and of a refit_gradient(), 2d + 1 from either.
   [[nodiscard]] Index full_fit_evaluations() const noexcept {
     return uses_deviations() ? 2 * dimension() + 1 : values_.size();
   }
   [[nodiscard]] Index gradient_fit_evaluations() const noexcept {
     return uses_deviations() ? 1 : dimension() + 1;
   }
-  [[nodiscard]] Index refit_evaluations() const noexcept {
-    return uses_deviations() ? 2 * dimension() + 1 : dimension() + 1;
-  }
+  [[nodiscard]] Index refit_evaluations() const noexcept { return 2 * dimension() + 1; }
   /// Whether the next fit will be a full one.
   [[nodiscard]] bool hessian_stale() const noexcept {
     return !has_hessian_ || age_ >= options_.hessian_refresh;
@@ -175,8 +178,9 @@ class QuadraticSurrogate {
 
   /// A gradient fit around `center` with the given `hessian` (refit_evaluations()), for an
   /// assembly measured earlier whose model is refitted where it is now used; the surrogate's own
-  /// H and its age are unchanged. From the deviations it is a full Gauss–Newton fit (2d + 1
-  /// evaluations), whose H is fitted there too (`hessian` is then only checked for its shape).
+  /// H and its age are unchanged. From Q² the gradient comes from central differences, which do
+  /// not use `hessian` (the model keeps it); from the deviations it is a full Gauss–Newton fit,
+  /// whose H is fitted there too. `hessian` is checked for its shape either way.
   /// @returns the twin evaluations spent.
   /// @throws as fit(); the surrogate is unchanged.
   template <typename Hessian>
@@ -187,13 +191,13 @@ class QuadraticSurrogate {
     require_dimension("center", center.size(), d);
     require_shape("hessian", hessian, d, d);
     if (uses_deviations()) return fit_from_deviations(assembly, center, model);
-    const Index count = gradient_fit_evaluations();
-    evaluate_squares(assembly, axis_stencil(center, false), values_.head(count));
+    const Index count = refit_evaluations();
+    evaluate_squares(assembly, axis_stencil(center, true), values_.head(count));
     model.center = center;
     model.value = values_(0);
     model.half_gradient.resize(d);
     model.hessian = hessian;
-    gradient_from_values(model.hessian, model);
+    central_gradient_from_values(model);
     return static_cast<std::uint64_t>(count);
   }
 
@@ -279,12 +283,10 @@ class QuadraticSurrogate {
     model.value = f0;
     model.half_gradient.resize(d);
     if (full) {
+      central_gradient_from_values(model);
       for (Index i = 0; i < d; ++i) {
         const double h = steps_(i);
-        const double plus = values_(1 + i);
-        const double minus = values_(1 + d + i);
-        hessian_(i, i) = (plus - 2.0 * f0 + minus) / (2.0 * h * h);
-        model.half_gradient(i) = (plus - minus) / (4.0 * h);
+        hessian_(i, i) = (values_(1 + i) - 2.0 * f0 + values_(1 + d + i)) / (2.0 * h * h);
       }
       Index column = 1 + 2 * d;
       for (Index i = 0; i < d; ++i) {
@@ -372,6 +374,15 @@ class QuadraticSurrogate {
       if (two_sided) points(i, 1 + d + i) -= steps_(i);
     }
     return points;
+  }
+
+  // g from Q² at v0 ± h_i e_i (values_ of the two-sided axis stencil): central differences,
+  // exact for a quadratic whatever its H.
+  void central_gradient_from_values(QuadraticModel<N>& model) const {
+    const Index d = dimension();
+    for (Index i = 0; i < d; ++i) {
+      model.half_gradient(i) = (values_(1 + i) - values_(1 + d + i)) / (4.0 * steps_(i));
+    }
   }
 
   // g from Q² at v0 and v0 + h_i e_i (values_) with H known: one-sided differences corrected
