@@ -70,6 +70,40 @@ TEST(ExternalCaseTwin, FindsEveryAssemblysOptimumWithTheSameResultForAnyNumberOf
   EXPECT_EQ(out(0), one.quality({1, 2}, controls.col(0)));
 }
 
+// examples/external_twin/gap_twin.py, the held-out black box of docs/external.md: its 60 key
+// points' deviations have its quality as their RMS, and its Q² is not a quadratic in u — a
+// quadratic's second difference along a locator is the same everywhere, the gaps' is not.
+TEST(ExternalCaseTwin, TheGapTwinExampleAnswersItsKeyPointsAndIsNotQuadratic) {
+  ExternalTwinSettings settings = minimal_twin(1);
+  settings.command = {"python3", TWINCAL_TEST_DATA_DIR "/../../examples/external_twin/gap_twin.py",
+                      "3", "4242"};
+  settings.key_points = 60;
+  const ExternalCaseTwin twin(settings);
+  ASSERT_EQ(twin.key_point_count(), 60);
+  const AssemblyId x{1, 2};
+  constexpr Index count = 41;  // along locator A from −0.8 to 0.8, the others at 0
+  MatrixX controls = MatrixX::Zero(3, count);
+  for (Index c = 0; c < count; ++c) {
+    controls(0, c) = -0.8 + 1.6 * static_cast<double>(c) / static_cast<double>(count - 1);
+  }
+  VectorX qualities(count);
+  twin.quality_batch(x, controls, qualities);
+  MatrixX deviations(60, count);
+  twin.deviations_batch(x, controls, deviations);
+  double smallest = std::numeric_limits<double>::infinity();
+  double largest = 0.0;
+  for (Index c = 0; c < count; ++c) {
+    EXPECT_NEAR(deviations.col(c).norm() / std::sqrt(60.0), qualities(c), 1e-12) << c;
+    if (c == 0 || c + 1 == count) continue;
+    const double second = qualities(c - 1) * qualities(c - 1) - 2.0 * qualities(c) * qualities(c) +
+                          qualities(c + 1) * qualities(c + 1);
+    smallest = std::min(smallest, second);
+    largest = std::max(largest, second);
+  }
+  // A quadratic's are equal to rounding; the gaps' span a factor of 3.2 along this line.
+  EXPECT_GT(largest - smallest, smallest);
+}
+
 TEST(ExternalCaseTwin, RegistersScannedPartsOnceAndSearchesTheirOptimum) {
   ExternalCaseTwin twin(minimal_twin(2));
   const std::uint64_t searched = twin.search_evaluations();

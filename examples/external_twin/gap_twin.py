@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""A black-box twin with closing gaps, written as a user would (docs/external.md, "A twin with
+closing gaps"): usage `gap_twin.py D SEED`.
+
+m = 60 key points deviate as r = a(x) + B u, the parts' deviations a(x) = a_upper + a_lower drawn
+N(0, 0.15²) per key point and part, B drawn N(0, 1/D). Each key point has a gap on one side
+(side and width 0.05–0.35 mm drawn): a deviation beyond it is held back by 70 % of what passes
+it, as a part pressed onto a neighbour. Q = RMS(r), so Q² is piecewise quadratic in u: no
+quadratic model holds across the gaps that close within the locators' box. Everything is drawn
+from SEED, so a study is reproducible from the config alone.
+
+It answers qualities, and deviations where asked ("deviations": true, sent when the config sets
+"key_points": 60), in the protocol of minimal_twin.py.
+"""
+import json
+import math
+import random
+import sys
+
+KEY_POINTS = 60
+HOLD = 0.7  # share of a deviation beyond its gap that the gap holds back
+
+
+class GapTwin:
+    def __init__(self, dimension, seed):
+        draws = random.Random(seed)
+        self.dimension = dimension
+        self.influence = [[draws.gauss(0.0, 1.0) / math.sqrt(dimension) for _ in range(dimension)]
+                          for _ in range(KEY_POINTS)]
+        self.side = [draws.choice((-1.0, 1.0)) for _ in range(KEY_POINTS)]
+        self.gap = [draws.uniform(0.05, 0.35) for _ in range(KEY_POINTS)]
+        self.seed = seed
+        self.parts = {}
+
+    def part(self, kind, index):
+        """A part's deviation per key point, drawn from the seed, the part's kind and index."""
+        key = (kind, index)
+        if key not in self.parts:
+            draws = random.Random(f"{self.seed}/{kind}/{index}")
+            self.parts[key] = [draws.gauss(0.0, 0.15) for _ in range(KEY_POINTS)]
+        return self.parts[key]
+
+    def deviations(self, assembly, control):
+        if len(control) != self.dimension:
+            raise ValueError(f"control has {len(control)} locators, the twin {self.dimension}")
+        upper = self.part("upper", assembly["upper"])
+        lower = self.part("lower", assembly["lower"])
+        out = []
+        for k in range(KEY_POINTS):
+            r = upper[k] + lower[k] + sum(b * u for b, u in zip(self.influence[k], control))
+            beyond = self.side[k] * r - self.gap[k]
+            if beyond > 0.0:
+                r -= HOLD * self.side[k] * beyond
+            out.append(r)
+        return out
+
+    def quality(self, assembly, control):
+        r = self.deviations(assembly, control)
+        return math.sqrt(sum(ri * ri for ri in r) / len(r))
+
+
+def main():
+    twin = GapTwin(int(sys.argv[1]), int(sys.argv[2]))
+    for line in sys.stdin:
+        request = json.loads(line)
+        try:
+            if request.get("deviations"):
+                answer = [twin.deviations(request["assembly"], u) for u in request["controls"]]
+                reply = {"id": request["id"], "deviations": answer}
+            else:
+                answer = [twin.quality(request["assembly"], u) for u in request["controls"]]
+                reply = {"id": request["id"], "qualities": answer}
+        except (KeyError, TypeError, ValueError) as error:
+            reply = {"id": request.get("id"), "error": f"cannot evaluate: {error!r}"}
+        print(json.dumps(reply), flush=True)
+
+
+if __name__ == "__main__":
+    main()
