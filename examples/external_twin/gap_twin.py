@@ -10,12 +10,15 @@ quadratic model holds across the gaps that close within the locators' box. Every
 from SEED, so a study is reproducible from the config alone.
 
 It answers qualities, and deviations where asked ("deviations": true, sent when the config sets
-"key_points": 60), in the protocol of minimal_twin.py.
+"key_points": 60), through minimal_twin.py's protocol loop.
 """
-import json
 import math
+import os
 import random
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from minimal_twin import serve  # noqa: E402  the protocol's loop, beside this file
 
 KEY_POINTS = 60
 HOLD = 0.7  # share of a deviation beyond its gap that the gap holds back
@@ -59,21 +62,6 @@ class GapTwin:
         return math.sqrt(sum(ri * ri for ri in r) / len(r))
 
 
-def main():
-    twin = GapTwin(int(sys.argv[1]), int(sys.argv[2]))
-    for line in sys.stdin:
-        request = json.loads(line)
-        try:
-            if request.get("deviations"):
-                answer = [twin.deviations(request["assembly"], u) for u in request["controls"]]
-                reply = {"id": request["id"], "deviations": answer}
-            else:
-                answer = [twin.quality(request["assembly"], u) for u in request["controls"]]
-                reply = {"id": request["id"], "qualities": answer}
-        except (KeyError, TypeError, ValueError) as error:
-            reply = {"id": request.get("id"), "error": f"cannot evaluate: {error!r}"}
-        print(json.dumps(reply), flush=True)
-
-
 if __name__ == "__main__":
-    main()
+    twin = GapTwin(int(sys.argv[1]), int(sys.argv[2]))
+    serve(twin.quality, twin.deviations)

@@ -45,7 +45,8 @@ def quality(assembly, control):
     return math.sqrt(sum(ri * ri for ri in r) / len(r))
 
 
-def main():
+def serve(quality, deviations):
+    """The protocol's loop: one reply line per request line, until stdin closes."""
     for line in sys.stdin:
         request = json.loads(line)
         try:
@@ -61,4 +62,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    serve(quality, deviations)
