@@ -14,7 +14,8 @@
 ///   no H. The controller refits only models that failed their check, so the given H is wrong
 ///   there; forward differences corrected by it (d + 1 evaluations) left the analytic family
 ///   answering only Q at 8.62 × its baselines summed over 48 cells with 11 runs lost, central
-///   ones at 7.12 with 3 (docs/reproduction.md, "Black-box twins that answer only Q").
+///   ones at 7.12 with 3, both at quality_step_fraction 0.025 (docs/reproduction.md, "Black-box
+///   twins that answer only Q").
 /// From the key points' deviations (a TwinWithDeviations with m > 0 key points, unless
 /// `from_deviations` is off), Gauss–Newton, with Q² = ‖r‖²/m:
 ///   c = ‖r(v0)‖²/m,  g = Jᵀr(v0)/m,  H = JᵀJ/m.
