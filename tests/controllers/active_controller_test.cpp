@@ -580,10 +580,9 @@ struct RuggedPlant {
 // twin whose model passes its check the option changes nothing, control for control.
 TEST(ActiveController, PricesItsProbeByThePlantsRegretWhereTheModelErrs) {
   const RuggedPlant plant;
-  ActiveOptions options;
-  ActiveController<RuggedTwin, Dynamic> priced(plant.twin, RandomStream(6), options);
-  options.regret_probe = 0.0;
-  ActiveController<RuggedTwin, Dynamic> unpriced(plant.twin, RandomStream(6), options);
+  ActiveController<RuggedTwin, Dynamic> priced(plant.twin, RandomStream(6));
+  ActiveController<RuggedTwin, Dynamic> unpriced(plant.twin, RandomStream(6),
+                                                 ActiveOptions{.regret_probe = 0.0});
   const Index window = ActiveOptions{}.regret_window;
   double priced_norm = 0.0;
   double unpriced_norm = 0.0;

@@ -256,7 +256,7 @@ void ResultStore::add_group(const ExperimentGroup& group, const CaseTwin& twin) 
       [](const ControllerSpec& spec) { return spec.kind == ControllerSpec::Kind::active; });
   const Index key_points = twin.key_point_count();
   const char* source =
-      key_points > 0 && config.active.surrogate.from_deviations ? "deviations" : "quality";
+      config.active.surrogate.fits_from_deviations(key_points) ? "deviations" : "quality";
   twin_json["active_models"] =
       active ? json{{"from", source}, {"key_points", key_points}} : json(nullptr);
   groups_.push_back(json{{"name", name},

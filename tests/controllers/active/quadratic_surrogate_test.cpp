@@ -77,13 +77,13 @@ TEST_F(QuadraticSurrogateOnAnalyticTwin, RefitsTheGradientWhateverTheHessianItIs
   const AssemblyId x{5, 2};
   const VectorX center = twin_.optimum(x) + VectorX::LinSpaced(4, 0.3, -0.1);
   const VectorX gradient = twin_.curvature() * (center - twin_.optimum(x));
+  const double q = twin_.quality(x, center);
   for (const double scale : {0.0, 0.5, 3.0}) {
     const MatrixX wrong = scale * twin_.curvature() + MatrixX::Identity(4, 4);
     QuadraticModel<Dynamic> refitted;
     static_cast<void>(surrogate_.refit_gradient(x, center, wrong, refitted));
     EXPECT_LT((refitted.half_gradient - gradient).cwiseAbs().maxCoeff(), 1e-9) << scale;
     EXPECT_EQ(refitted.hessian, wrong);  // the model keeps the H it was given
-    const double q = twin_.quality(x, center);
     EXPECT_NEAR(refitted.value, q * q, 1e-12);
   }
 }

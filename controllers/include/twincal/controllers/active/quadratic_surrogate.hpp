@@ -79,6 +79,12 @@ struct QuadraticSurrogateOptions {
   /// "Black-box twins").
   bool from_deviations = true;
 
+  /// Whether fits come from the deviations for a twin that answers `key_points` of them (0: it
+  /// answers only Q): the one rule the surrogate and whoever reports on it follow.
+  [[nodiscard]] bool fits_from_deviations(Index key_points) const noexcept {
+    return from_deviations && key_points > 0;
+  }
+
   [[nodiscard]] std::optional<std::string> validate() const {
     return first_problem(
         {rule::in_left_open("step_fraction", step_fraction, 0.0, 0.5),
@@ -102,8 +108,8 @@ class QuadraticSurrogate {
     if constexpr (N != Dynamic) require_dimension("twin.control_dimension()", d, N);
     hessian_.setZero(d, d);
     if constexpr (TwinWithDeviations<T>) {
-      const Index m = options_.from_deviations ? twin.key_point_count() : 0;
-      if (m > 0) {
+      const Index m = twin.key_point_count();
+      if (options_.fits_from_deviations(m)) {
         deviations_.resize(m, 2 * d + 1);
         jacobian_.setZero(m, d);
         fresh_jacobian_.resize(m, d);
