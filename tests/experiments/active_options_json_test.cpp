@@ -85,6 +85,8 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
        [](auto& o) { return o.trajectory.velocity_fraction == 0.02; }},
       {"trajectory.change_gate", 2.5, [](auto& o) { return o.trajectory.change_gate == 2.5; }},
       {"trajectory.change_window", 3, [](auto& o) { return o.trajectory.change_window == 3; }},
+      {"trajectory.innovation_window", 0,
+       [](auto& o) { return o.trajectory.innovation_window == 0; }},
       {"trajectory.misfit_window", 20, [](auto& o) { return o.trajectory.misfit_window == 20; }},
       {"trajectory.max_misfit_scale", 25.0,
        [](auto& o) { return o.trajectory.max_misfit_scale == 25.0; }},

@@ -54,13 +54,14 @@ constexpr std::array<OptionField<ActiveOptions>, 28> active_fields{{
     {"change_test_after_refit", &ActiveOptions::change_test_after_refit},
 }};
 
-constexpr std::array<OptionField<ConstantVelocityOptions>, 18> trajectory_fields{{
+constexpr std::array<OptionField<ConstantVelocityOptions>, 19> trajectory_fields{{
     {"initial_position_fraction", &ConstantVelocityOptions::initial_position_fraction},
     {"position_fraction", &ConstantVelocityOptions::position_fraction},
     {"max_position_fraction", &ConstantVelocityOptions::max_position_fraction},
     {"velocity_fraction", &ConstantVelocityOptions::velocity_fraction},
     {"change_gate", &ConstantVelocityOptions::change_gate},
     {"change_window", &ConstantVelocityOptions::change_window},
+    {"innovation_window", &ConstantVelocityOptions::innovation_window},
     {"misfit_window", &ConstantVelocityOptions::misfit_window},
     {"max_misfit_scale", &ConstantVelocityOptions::max_misfit_scale},
     {"min_gate_unit", &ConstantVelocityOptions::min_gate_unit},

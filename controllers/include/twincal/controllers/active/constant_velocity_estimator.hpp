@@ -25,7 +25,9 @@
 /// and keeps only the assemblies measured since. The gate judges the residuals of the fit as it
 /// is made (ChangeTest::now), or, where the owner refits the models that the fit uses beyond
 /// their checks' reach, of the fit after that refit (ChangeTest::after_refit, test_change()):
-/// a stale model can err there by many σz, which is not a change of the plant.
+/// a stale model can err there by many σz, which is not a change of the plant. That test also
+/// reads the innovations (ConstantVelocityOptions::innovation_window): each z against the
+/// prediction made before it joined the fit, which the fit's 2d unknowns cannot bend to.
 ///
 /// Misfit. Residuals larger than σz² + τ_k² explains (a twin whose models err more than their
 /// checks say) are measured by the median normalized innovation of the last assemblies, and the
@@ -171,8 +173,9 @@ class ConstantVelocityEstimator {
   void fit(Index time, ChangeTest test = ChangeTest::now);
 
   /// Consults the change gate on the last fit, whose models the owner has refitted where it
-  /// uses them (ChangeTest::after_refit), in units of refitted_gate_unit(); where it declares a
-  /// change, restarts and fits again as fit() does. Nothing before the first fit.
+  /// uses them (ChangeTest::after_refit), in units of refitted_gate_unit(), and the innovations
+  /// since the fit last restarted (innovations_beyond_gate()); where either declares a change,
+  /// restarts and fits again as fit() does. Nothing before the first fit.
   void test_change();
 
   /// s², the misfit of the history's entries whose model errs, in units of their residuals'
@@ -475,6 +478,17 @@ class ConstantVelocityEstimator {
     return mean > allowed;
   }
 
+  // The innovations' change test (ConstantVelocityOptions::innovation_window): each of the last
+  // innovation_window normalized innovations beyond 1 and their mean beyond change_gate² in the
+  // gate's unit (at least 1), once max(innovation_window, 2d) have joined since the last restart.
+  [[nodiscard]] bool innovations_beyond_gate() const noexcept {
+    if (options_.innovation_window <= 0) return false;
+    const auto needed =
+        static_cast<std::size_t>(std::max(options_.innovation_window, 2 * dimension()));
+    return recent_innovations_.beyond(
+        needed, options_.change_gate * options_.change_gate * std::max(1.0, gate_unit()));
+  }
+
   // A change of velocity declared at `time`: restarts (restart_at_change()) and solves from
   // `from` (which may be work_.best) into work_.best.
   SolveSummary restart_from(const StateVector& from, Index time) {
@@ -511,6 +525,7 @@ class ConstantVelocityEstimator {
     prior_.covariance.diagonal().tail(d) +=
         (options_.change_velocity_floor_fraction * width_).array().square().matrix();
     prior_.time = restart_time;
+    recent_innovations_.clear();  // they are what the restart answers
     while (history_.size > 0 && time_of(0) < restart_time) {
       history_.head = (history_.head + 1) % options_.max_history;
       --history_.size;
@@ -666,6 +681,27 @@ class ConstantVelocityEstimator {
   FitSnapshots fits_;
   Prior prior_;
   Estimate estimate_;
+  // A ring of n values, `count` of them added so far, as saved: the slots in use (the first
+  // min(n, count)) and the count.
+  [[nodiscard]] static nlohmann::json save_ring(const std::vector<double>& ring,
+                                                std::size_t count) {
+    const std::size_t kept = std::min(ring.size(), count);
+    nlohmann::json values = nlohmann::json::array();
+    for (std::size_t i = 0; i < kept; ++i) values.push_back(json_state::number_to_json(ring[i]));
+    return {{"ring", std::move(values)}, {"count", count}};
+  }
+  // Reads what save_ring() wrote into `ring` (its size n kept) and returns the count.
+  static std::size_t restore_ring(const nlohmann::json& saved, std::vector<double>& ring) {
+    const std::uint64_t count = json_state::read_count(saved, "count");
+    const std::size_t kept = std::min<std::uint64_t>(ring.size(), count);
+    const nlohmann::json& values = json_state::require_array(json_state::field(saved, "ring"),
+                                                             "ring", static_cast<Index>(kept));
+    for (std::size_t i = 0; i < kept; ++i) {
+      ring[i] = json_state::read_double(values[i], fmt::format("ring[{}]", i));
+    }
+    return static_cast<std::size_t>(count);
+  }
+
   // The median of the last n normalized innovations ν²/S over χ²(1)'s median (0.4549), at least
   // 1 — not before half of n are in: the first innovations also carry the start's error (a
   // start far from the offset would otherwise gate off the changes that recover from it).
@@ -693,28 +729,19 @@ class ConstantVelocityEstimator {
     // The entries of the ring that are in (the first min(n, count) slots), the count and the
     // scale; the sorted copy is a workspace.
     [[nodiscard]] nlohmann::json save() const {
-      const std::size_t kept = std::min(ring_.size(), count_);
-      nlohmann::json ring = nlohmann::json::array();
-      for (std::size_t i = 0; i < kept; ++i) ring.push_back(json_state::number_to_json(ring_[i]));
-      return {{"ring", std::move(ring)},
-              {"count", count_},
-              {"scale", json_state::number_to_json(scale_)}};
+      nlohmann::json saved = save_ring(ring_, count_);
+      saved["scale"] = json_state::number_to_json(scale_);
+      return saved;
     }
     void restore(const nlohmann::json& saved) {
-      const std::uint64_t count = json_state::read_count(saved, "count");
-      const std::size_t kept = std::min<std::uint64_t>(ring_.size(), count);
-      const nlohmann::json& ring = json_state::require_array(json_state::field(saved, "ring"),
-                                                             "ring", static_cast<Index>(kept));
       std::vector<double> values = ring_;
-      for (std::size_t i = 0; i < kept; ++i) {
-        values[i] = json_state::read_double(ring[i], fmt::format("ring[{}]", i));
-      }
+      const std::size_t count = restore_ring(saved, values);
       const double scale = json_state::read_double_field(saved, "scale");
       ring_.swap(values);
-      count_ = static_cast<std::size_t>(count);
+      count_ = count;
       scale_ = scale;
       // Not saved: it follows from the ring as add() computed it.
-      unfloored_ = median_scale(kept);
+      unfloored_ = median_scale(std::min(ring_.size(), count_));
     }
 
    private:
@@ -730,11 +757,47 @@ class ConstantVelocityEstimator {
     double scale_ = 1.0;
     double unfloored_ = 1.0;
   };
+  // The normalized innovations ν²/S since the fit last (re)started, the last n of them kept:
+  // the innovations' change test (innovations_beyond_gate()).
+  class RecentInnovations {
+   public:
+    void resize(Index n) { ring_.assign(static_cast<std::size_t>(n), 0.0); }
+    void clear() noexcept { count_ = 0; }
+    void add(double normalized) noexcept {
+      if (ring_.empty()) return;
+      ring_[count_ % ring_.size()] = normalized;
+      ++count_;
+    }
+    // Whether at least `needed` (>= n > 0) have joined, each of the last n exceeds 1 and their
+    // mean exceeds `allowed`.
+    [[nodiscard]] bool beyond(std::size_t needed, double allowed) const noexcept {
+      if (ring_.empty() || count_ < needed) return false;
+      double sum = 0.0;
+      for (const double normalized : ring_) {
+        if (!(normalized > 1.0)) return false;
+        sum += normalized;
+      }
+      return sum > allowed * static_cast<double>(ring_.size());
+    }
+
+    [[nodiscard]] nlohmann::json save() const { return save_ring(ring_, count_); }
+    void restore(const nlohmann::json& saved) {
+      std::vector<double> values = ring_;
+      const std::size_t count = restore_ring(saved, values);
+      ring_.swap(values);
+      count_ = count;
+    }
+
+   private:
+    std::vector<double> ring_;
+    std::size_t count_ = 0;
+  };
   static constexpr double chi2_median = 0.4549;  // of χ²(1)
   static constexpr double wall_scale = 1e-4;     // wall_cost(): the wall's σ / box width
   MedianMisfit model_misfit_;                    // entries whose model errs: misfit_scale()
   MedianMisfit prediction_misfit_;               // every entry: prediction_scale()
   MedianMisfit innovation_misfit_;               // every entry, ν² / (σz² + τ²): gate_unit()
+  RecentInnovations recent_innovations_;         // since the last restart: the innovations' test
   OffsetMatrix last_hessian_;                    // the last H added, as fitted
   SolveSummary last_solve_;
   Workspace work_;
@@ -787,6 +850,7 @@ ConstantVelocityEstimator<N>::ConstantVelocityEstimator(const VectorX& box_width
   model_misfit_.resize(options_.misfit_window);
   prediction_misfit_.resize(options_.misfit_window);
   innovation_misfit_.resize(options_.misfit_window);
+  recent_innovations_.resize(options_.innovation_window);
 }
 
 template <int N>
@@ -810,6 +874,7 @@ void ConstantVelocityEstimator<N>::reset(Index time, const OffsetVector& positio
   model_misfit_.clear();
   prediction_misfit_.clear();
   innovation_misfit_.clear();
+  recent_innovations_.clear();
   estimate_.changes = 0;
   estimate_.changed = false;
   estimate_.fitted = false;
@@ -871,6 +936,7 @@ double ConstantVelocityEstimator<N>::add(Index time, const QuadraticModel<N>& mo
   // (measured: with every entry, a quadratic twin at d = 32 ran a residual of 0.18 instead of
   // 0.14).
   if (options_.misfit_window > 0 && model_variance > 0.0) model_misfit_.add(normalized);
+  recent_innovations_.add(normalized);
   if (options_.misfit_window > 0) {
     // prediction_scale() takes the innovation's variance to second order: near the optimum the
     // slope vanishes, and Q² still varies with the estimate's error e ~ N(0, P) through eᵀHe,
@@ -934,7 +1000,7 @@ template <int N>
 void ConstantVelocityEstimator<N>::test_change() {
   const Index time = estimate_.time;
   if (!estimate_.fitted || history_.size <= options_.change_window + 2 ||
-      !recent_misfit(estimate_.state, time, refitted_gate_unit())) {
+      (!recent_misfit(estimate_.state, time, refitted_gate_unit()) && !innovations_beyond_gate())) {
     return;
   }
   last_solve_ = restart_from(estimate_.state, time);
@@ -1026,7 +1092,8 @@ nlohmann::json ConstantVelocityEstimator<N>::save() const {
       {"change_ratio", json_state::number_to_json(estimate_.change_ratio)},
       {"misfit", model_misfit_.save()},
       {"prediction_misfit", prediction_misfit_.save()},
-      {"innovation_misfit", innovation_misfit_.save()}};
+      {"innovation_misfit", innovation_misfit_.save()},
+      {"recent_innovations", recent_innovations_.save()}};
 }
 
 template <int N>
@@ -1136,6 +1203,9 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   MedianMisfit innovation_misfit = innovation_misfit_;
   const nlohmann::json& saved_innovation = field(saved, "innovation_misfit");
   json_state::within("innovation_misfit", [&] { innovation_misfit.restore(saved_innovation); });
+  RecentInnovations recent_innovations = recent_innovations_;
+  const nlohmann::json& saved_recent = field(saved, "recent_innovations");
+  json_state::within("recent_innovations", [&] { recent_innovations.restore(saved_recent); });
 
   // Nothing throws from here on.
   history_ = std::move(history);
@@ -1147,6 +1217,7 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   model_misfit_ = std::move(misfit);
   prediction_misfit_ = std::move(prediction_misfit);
   innovation_misfit_ = std::move(innovation_misfit);
+  recent_innovations_ = std::move(recent_innovations);
 }
 
 // The run-time size: the ActiveController of the experiments, the CLI, the Python module, the

@@ -48,6 +48,19 @@ struct ConstantVelocityOptions {
   /// halved, no group worse by more than noise; docs/reproduction.md).
   double change_gate = 2.0;
   Index change_window = 2;
+  /// The change test after a refit (ConstantVelocityEstimator::test_change()) also reads the
+  /// innovations, each z against the prediction made before it joined the fit: a change is
+  /// declared when each of the last `innovation_window` normalized innovations ν²/S exceeds 1
+  /// and their mean exceeds change_gate² in the gate's unit (gate_unit(), at least 1), once at
+  /// least max(innovation_window, 2d) innovations have joined since the fit last restarted. The
+  /// fit's own residuals, which the gate reads, miss a turn of the drift that its 2d unknowns can
+  /// bend to: traced on a twin with closing gaps at d = 12, innovations at 5–40 times their
+  /// variance for 10–25 assemblies after a turn while the gate read below 1, and the estimate
+  /// ran 0.7 mm from an offset of 0.3. Fewer than 2d since a restart, and restarts follow one
+  /// another where models err, each cutting the history the estimate rests on (lost runs of the
+  /// analytic family answering only Q, 4 → 9 of 480). 0: off. Measured 2026-12-01
+  /// (docs/reproduction.md, "A change seen in the innovations").
+  Index innovation_window = 3;
   /// The gate and the significance test are in units of the history's own misfit s²: the
   /// median normalized innovation ν²/S of the last `misfit_window` assemblies whose model errs
   /// (τ² > 0) over χ²(1)'s median (0.4549), when that exceeds 1 (0: in units of σz alone; a twin
@@ -132,6 +145,9 @@ struct ConstantVelocityOptions {
                      position_fraction),
          rule::positive_finite("change_gate", change_gate),
          rule::at_least("change_window", change_window, Index{1}),
+         rule::check(innovation_window >= 0 && innovation_window <= max_history,
+                     "innovation_window", innovation_window,
+                     "must lie in [0, max_history = {}] (0: off)", max_history),
          rule::check(change_lag >= change_window, "change_lag", change_lag,
                      "must be >= change_window = {}", change_window),
          rule::non_negative_finite("change_position_spread", change_position_spread),
