@@ -12,12 +12,12 @@ from SEED, so a study is reproducible from the config alone.
 It answers qualities, and deviations where asked ("deviations": true, sent when the config sets
 "key_points": 60), through minimal_twin.py's protocol loop.
 """
-import math
 import os
 import random
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from key_points import DrawnKeyPoints, rms  # noqa: E402  beside this file
 from minimal_twin import serve  # noqa: E402  the protocol's loop, beside this file
 
 KEY_POINTS = 60
@@ -27,30 +27,17 @@ HOLD = 0.7  # share of a deviation beyond its gap that the gap holds back
 class GapTwin:
     def __init__(self, dimension, seed):
         draws = random.Random(seed)
-        self.dimension = dimension
-        self.influence = [[draws.gauss(0.0, 1.0) / math.sqrt(dimension) for _ in range(dimension)]
-                          for _ in range(KEY_POINTS)]
+        self.keys = DrawnKeyPoints(dimension, KEY_POINTS, draws, 0.15)
         self.side = [draws.choice((-1.0, 1.0)) for _ in range(KEY_POINTS)]
         self.gap = [draws.uniform(0.05, 0.35) for _ in range(KEY_POINTS)]
         self.seed = seed
-        self.parts = {}
-
-    def part(self, kind, index):
-        """A part's deviation per key point, drawn from the seed, the part's kind and index."""
-        key = (kind, index)
-        if key not in self.parts:
-            draws = random.Random(f"{self.seed}/{kind}/{index}")
-            self.parts[key] = [draws.gauss(0.0, 0.15) for _ in range(KEY_POINTS)]
-        return self.parts[key]
 
     def deviations(self, assembly, control):
-        if len(control) != self.dimension:
-            raise ValueError(f"control has {len(control)} locators, the twin {self.dimension}")
-        upper = self.part("upper", assembly["upper"])
-        lower = self.part("lower", assembly["lower"])
+        upper = self.keys.part(f"{self.seed}/upper/{assembly['upper']}")
+        lower = self.keys.part(f"{self.seed}/lower/{assembly['lower']}")
         out = []
         for k in range(KEY_POINTS):
-            r = upper[k] + lower[k] + sum(b * u for b, u in zip(self.influence[k], control))
+            r = upper[k] + lower[k] + self.keys.moved(k, control)
             beyond = self.side[k] * r - self.gap[k]
             if beyond > 0.0:
                 r -= HOLD * self.side[k] * beyond
@@ -58,8 +45,7 @@ class GapTwin:
         return out
 
     def quality(self, assembly, control):
-        r = self.deviations(assembly, control)
-        return math.sqrt(sum(ri * ri for ri in r) / len(r))
+        return rms(self.deviations(assembly, control))
 
 
 if __name__ == "__main__":

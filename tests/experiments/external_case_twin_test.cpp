@@ -70,38 +70,53 @@ TEST(ExternalCaseTwin, FindsEveryAssemblysOptimumWithTheSameResultForAnyNumberOf
   EXPECT_EQ(out(0), one.quality({1, 2}, controls.col(0)));
 }
 
-// examples/external_twin/gap_twin.py, the held-out black box of docs/external.md: its 60 key
-// points' deviations have its quality as their RMS, and its Q² is not a quadratic in u — a
-// quadratic's second difference along a locator is the same everywhere, the gaps' is not.
-TEST(ExternalCaseTwin, TheGapTwinExampleAnswersItsKeyPointsAndIsNotQuadratic) {
+// An example twin of examples/external_twin (`script` D = 3 SEED) with `key_points` key points:
+// their deviations have its quality as their RMS, and its Q² is not a quadratic in u — a
+// quadratic's second difference along a locator is the same everywhere to rounding, and along
+// locator A (−0.8 … 0.8, the others at 0) the twin's span more than the smallest's size.
+void expect_key_points_and_not_quadratic(const std::string& script, const std::string& seed,
+                                         Index key_points) {
   ExternalTwinSettings settings = minimal_twin(1);
-  settings.command = {"python3", TWINCAL_TEST_DATA_DIR "/../../examples/external_twin/gap_twin.py",
-                      "3", "4242"};
-  settings.key_points = 60;
+  settings.command = {"python3", TWINCAL_TEST_DATA_DIR "/../../examples/external_twin/" + script,
+                      "3", seed};
+  settings.key_points = key_points;
   const ExternalCaseTwin twin(settings);
-  ASSERT_EQ(twin.key_point_count(), 60);
+  ASSERT_EQ(twin.key_point_count(), key_points);
   const AssemblyId x{1, 2};
-  constexpr Index count = 41;  // along locator A from −0.8 to 0.8, the others at 0
+  constexpr Index count = 41;
   MatrixX controls = MatrixX::Zero(3, count);
   for (Index c = 0; c < count; ++c) {
     controls(0, c) = -0.8 + 1.6 * static_cast<double>(c) / static_cast<double>(count - 1);
   }
   VectorX qualities(count);
   twin.quality_batch(x, controls, qualities);
-  MatrixX deviations(60, count);
+  MatrixX deviations(key_points, count);
   twin.deviations_batch(x, controls, deviations);
   double smallest = std::numeric_limits<double>::infinity();
   double largest = 0.0;
   for (Index c = 0; c < count; ++c) {
-    EXPECT_NEAR(deviations.col(c).norm() / std::sqrt(60.0), qualities(c), 1e-12) << c;
+    EXPECT_NEAR(deviations.col(c).norm() / std::sqrt(static_cast<double>(key_points)), qualities(c),
+                1e-12)
+        << script << " " << c;
     if (c == 0 || c + 1 == count) continue;
     const double second = qualities(c - 1) * qualities(c - 1) - 2.0 * qualities(c) * qualities(c) +
                           qualities(c + 1) * qualities(c + 1);
     smallest = std::min(smallest, second);
     largest = std::max(largest, second);
   }
-  // A quadratic's are equal to rounding; the gaps' span a factor of 3.2 along this line.
-  EXPECT_GT(largest - smallest, smallest);
+  EXPECT_GT(largest - smallest, std::abs(smallest)) << script;
+}
+
+// examples/external_twin/gap_twin.py (docs/external.md, "A twin with closing gaps"): 60 key
+// points; the gaps' second differences span a factor of 3.2 along the line.
+TEST(ExternalCaseTwin, TheGapTwinExampleAnswersItsKeyPointsAndIsNotQuadratic) {
+  expect_key_points_and_not_quadratic("gap_twin.py", "4242", 60);
+}
+
+// examples/external_twin/clamp_twin.py (docs/external.md, "A twin with clamps"): 50 key points;
+// the clamps make Q² concave between them, so its second differences change sign.
+TEST(ExternalCaseTwin, TheClampTwinExampleAnswersItsKeyPointsAndIsNotQuadratic) {
+  expect_key_points_and_not_quadratic("clamp_twin.py", "5151", 50);
 }
 
 TEST(ExternalCaseTwin, RegistersScannedPartsOnceAndSearchesTheirOptimum) {
