@@ -341,6 +341,20 @@ TEST(ExternalCaseTwin, LeastSquaresSearchFindsTheOptimumFromTheProgramsDeviation
   EXPECT_THROW((void)negative.get<ExternalTwinSettings>(), InvalidArgumentError);
 }
 
+// A config whose key_points is not the number of deviations the program answers is refused when
+// the twin is made, naming the rule, rather than failing every model the controller fits later.
+TEST(ExternalCaseTwin, RefusesKeyPointsTheProgramDoesNotAnswer) {
+  ExternalTwinSettings settings = minimal_twin(1);
+  settings.key_points = 5;  // the minimal twin answers 4
+  try {
+    const ExternalCaseTwin twin(settings);
+    ADD_FAILURE() << "made a twin whose program answers 4 deviations with key_points 5";
+  } catch (const std::exception& error) {
+    EXPECT_THAT(error.what(), HasSubstr("has 4 deviations; rule: must have 5, one per key point "
+                                        "(key_points)"));
+  }
+}
+
 // A program that answers null for some controls (a solver that did not converge there) does not
 // stop the search: such controls count as worse than any seen, and u0 is the best evaluated one.
 TEST(ExternalCaseTwin, SearchStepsAroundControlsTheTwinCannotEvaluate) {

@@ -75,6 +75,15 @@ ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings,
   for (Index i = 0; i < settings.upper_parts; ++i) {
     for (Index j = 0; j < settings.lower_parts; ++j) assemblies_.push_back({i, j});
   }
+  // A program that answers another number of deviations than key_points says would fail every
+  // model fitted from them, and the active controller would run on its fallback without a word
+  // in the results: one request at the first assembly and the box's centre refuses it here,
+  // naming the rule (ExternalTwinError, "… has 50 deviations; rule: must have 60 …").
+  if (key_point_count() > 0 && !assemblies_.empty()) {
+    const MatrixX centre = 0.5 * (lower_bounds() + upper_bounds());
+    MatrixX deviations(key_point_count(), 1);
+    deviations_batch(assemblies_.front(), centre, deviations);
+  }
   SearchedOptima pairs(control_dimension(), std::ssize(assemblies_));
   const std::string& file = settings.optima_file;
   if (!file.empty()) {
