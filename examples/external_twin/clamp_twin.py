@@ -34,16 +34,15 @@ class ClampTwin:
         self.seed = seed
 
     def deviations(self, assembly, control):
-        upper = self.keys.part(f"{self.seed}:u:{assembly['upper']}")
-        lower = self.keys.part(f"{self.seed}:l:{assembly['lower']}")
-        out = []
-        for k in range(KEY_POINTS):
-            moved = self.keys.moved(k, control)
-            r = upper[k] + lower[k] + moved + self.stiffening[k] * max(0.0, moved) ** 2
-            if abs(r) > self.clamp[k]:
-                r = math.copysign(self.clamp[k] + PASSED * (abs(r) - self.clamp[k]), r)
-            out.append(r)
-        return out
+        return self.keys.deviations(f"{self.seed}:u:{assembly['upper']}",
+                                    f"{self.seed}:l:{assembly['lower']}", control, self.clamped)
+
+    def clamped(self, k, r, moved):
+        """Key point k's deviation r, stiffened on one side and held by its clamp."""
+        r += self.stiffening[k] * max(0.0, moved) ** 2
+        if abs(r) > self.clamp[k]:
+            r = math.copysign(self.clamp[k] + PASSED * (abs(r) - self.clamp[k]), r)
+        return r
 
     def quality(self, assembly, control):
         return rms(self.deviations(assembly, control))

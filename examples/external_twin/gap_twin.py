@@ -33,16 +33,13 @@ class GapTwin:
         self.seed = seed
 
     def deviations(self, assembly, control):
-        upper = self.keys.part(f"{self.seed}/upper/{assembly['upper']}")
-        lower = self.keys.part(f"{self.seed}/lower/{assembly['lower']}")
-        out = []
-        for k in range(KEY_POINTS):
-            r = upper[k] + lower[k] + self.keys.moved(k, control)
-            beyond = self.side[k] * r - self.gap[k]
-            if beyond > 0.0:
-                r -= HOLD * self.side[k] * beyond
-            out.append(r)
-        return out
+        return self.keys.deviations(f"{self.seed}/upper/{assembly['upper']}",
+                                    f"{self.seed}/lower/{assembly['lower']}", control, self.held)
+
+    def held(self, k, r, moved):
+        """Key point k's deviation r with its gap: beyond it, HOLD of the excess is held back."""
+        beyond = self.side[k] * r - self.gap[k]
+        return r - HOLD * self.side[k] * beyond if beyond > 0.0 else r
 
     def quality(self, assembly, control):
         return rms(self.deviations(assembly, control))

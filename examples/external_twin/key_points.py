@@ -24,11 +24,18 @@ class DrawnKeyPoints:
             self.parts[key] = [draws.gauss(0.0, self.spread) for _ in range(self.key_points)]
         return self.parts[key]
 
-    def moved(self, k, control):
-        """B_k u, what the locators move key point k by; refuses a control of the wrong size."""
+    def deviations(self, upper_key, lower_key, control, shape):
+        """Each key point k's deviation shape(k, r, m), r = a_upper,k + a_lower,k + m and m = B_k u
+        what the locators move it by (parts named by their key strings); refuses a control of
+        the wrong size."""
         if len(control) != self.dimension:
             raise ValueError(f"control has {len(control)} locators, the twin {self.dimension}")
-        return sum(b * u for b, u in zip(self.influence[k], control))
+        upper, lower = self.part(upper_key), self.part(lower_key)
+        out = []
+        for k, row in enumerate(self.influence):
+            moved = sum(b * u for b, u in zip(row, control))
+            out.append(shape(k, upper[k] + lower[k] + moved, moved))
+        return out
 
 
 def rms(r):
