@@ -655,10 +655,16 @@ with the lost rule's means goes to stderr. Nothing is written to a results direc
       write_episode_trace(twin, config, config.controllers.front(), run, stream);
   fmt::print(stderr,
              "twincal trace: {} {} run {} (seed {}): {} assemblies, mean relative residual {:.4g}, "
-             "mean |du_hat - du*| {:.4g}; second half {:.4g} against |du*| {:.4g}: {}{}\n",
+             "mean |du_hat - du*| {:.4g}; second half {:.4g} against |du*| {:.4g}: {}{}{}\n",
              result.group, result.controller, result.run, result.run_seed, result.steps,
              result.relative_residual, result.estimation_error, result.estimate_error_second_half,
              result.offset_norm_second_half, result.lost ? "lost" : "not lost",
+             result.first_fallback_at < 0
+                 ? std::string()
+                 : fmt::format("; {} proposals fell back to the default control and {} "
+                               "measurements were dropped, the first at t = {} ({})",
+                               result.fallbacks, result.dropped_measurements,
+                               result.first_fallback_at, result.first_fallback),
              result.failure.empty() ? std::string() : "; failed: " + result.failure);
   return 0;
 }

@@ -83,6 +83,7 @@ py::dict report_dict(const ProposalReport& r) {
   out["loss"] = r.loss;
   out["quality_evaluations"] = r.quality_evaluations;
   out["fallback"] = r.fallback;
+  out["dropped_measurement"] = r.dropped_measurement;
   return out;
 }
 

@@ -55,15 +55,20 @@ std::string run_experiment_json(const std::string& config_text, const std::strin
     run_experiments(groups, store, options);
     for (const SummaryRow& row : summarize(store.groups(), store.episodes())) {
       if (row.group != config.group_name()) continue;
-      rows.push_back({{"group", row.group},
-                      {"controller", row.controller},
-                      {"runs", row.runs},
-                      {"diverged", row.divergences},
-                      {"lost", row.lost ? nlohmann::json(*row.lost) : nlohmann::json(nullptr)},
-                      {"median_relative_residual", row.median_relative_residual},
-                      {"median_estimation_error", row.median_estimation_error},
-                      {"seconds_per_assembly", row.seconds_per_assembly},
-                      {"q_evaluations_per_assembly", row.q_evaluations_per_assembly}});
+      rows.push_back(
+          {{"group", row.group},
+           {"controller", row.controller},
+           {"runs", row.runs},
+           {"diverged", row.divergences},
+           {"lost", row.lost ? nlohmann::json(*row.lost) : nlohmann::json(nullptr)},
+           {"fallbacks", row.fallbacks ? nlohmann::json(*row.fallbacks) : nlohmann::json(nullptr)},
+           {"dropped_measurements", row.dropped_measurements
+                                        ? nlohmann::json(*row.dropped_measurements)
+                                        : nlohmann::json(nullptr)},
+           {"median_relative_residual", row.median_relative_residual},
+           {"median_estimation_error", row.median_estimation_error},
+           {"seconds_per_assembly", row.seconds_per_assembly},
+           {"q_evaluations_per_assembly", row.q_evaluations_per_assembly}});
     }
   }
   return nlohmann::json{{"config", config}, {"rows", rows}}.dump();

@@ -527,6 +527,33 @@ TEST(ActiveController, FallsBackToSigmaPointsForATwinThatIsNotQuadraticWhenAsked
   EXPECT_LT((controller.offset_estimate() - offset).norm(), 0.3);
 }
 
+// A twin that fails everywhere (TwinError, behind an Evaluator): the model cannot be fitted, so
+// the proposal falls back to the sigma-point mode, and its update cannot be evaluated either, so
+// the measurement is dropped — the estimate and P stay as predicted — and the controller goes on.
+TEST(ActiveController, FallsBackAndDropsTheMeasurementWhereItsTwinFails) {
+  const test_support::AnalyticTwin inner = test_support::make_twin(3);
+  const test_support::FailingOnLargeBatches failing(inner, 0);
+  using Checked = Evaluator<test_support::FailingOnLargeBatches>;
+  const Checked twin(failing);
+  ActiveController<Checked, Dynamic> controller(twin, RandomStream(6));
+  const std::vector<AssemblyId> assemblies = inner.assemblies();
+  for (int t = 0; t < 3; ++t) {
+    const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];
+    const VectorX u = controller.propose(x);
+    // A twin's failure says nothing about its model: the fit is tried again at every assembly.
+    EXPECT_TRUE(controller.last_proposal().fell_back()) << "assembly " << t;
+    EXPECT_FALSE(controller.last_step().quadratic) << "assembly " << t;
+    const VectorX predicted = controller.offset_estimate();
+    const MatrixX predicted_covariance = controller.offset_covariance();
+    controller.observe(x, u, 0.5);
+    EXPECT_TRUE(controller.last_proposal().dropped()) << "assembly " << t;
+    EXPECT_THAT(controller.last_proposal().dropped_measurement,
+                ::testing::HasSubstr("FEM solver crashed"));
+    EXPECT_EQ(controller.offset_estimate(), predicted);
+    EXPECT_EQ(controller.offset_covariance(), predicted_covariance);
+  }
+}
+
 // The default for a twin whose Q² is not a quadratic: the model is still used, each assembly
 // weighted by its model's error (τ² > 0), and the estimate is the estimator's.
 TEST(ActiveController, WeighsTheModelErrorOfATwinThatIsNotQuadratic) {

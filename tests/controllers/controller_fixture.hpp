@@ -103,4 +103,25 @@ class FailingOnLargeBatches : public BlackBox {
   Index max_batch_;
 };
 
+// The two-locator analytic twin behind FailingOnLargeBatches(max_batch) in an Evaluator, whose
+// failures are therefore TwinErrors, and the UKF over it the failure tests start from.
+struct FailingTwinSetup {
+  using Checked = Evaluator<FailingOnLargeBatches>;
+  using Model = QualityFeedback<Checked, 2>;
+  using Filter = UnscentedKalmanFilter<RandomWalk<2>, Model>;
+
+  explicit FailingTwinSetup(Index max_batch) : failing(inner, max_batch), twin(failing) {}
+  FailingTwinSetup(const FailingTwinSetup&) = delete;  // the twins refer to each other
+  FailingTwinSetup& operator=(const FailingTwinSetup&) = delete;
+
+  [[nodiscard]] Filter filter() const {
+    return Filter(RandomWalk<2>::isotropic(2, 1e-3), Model(twin, 1e-4), merwe(),
+                  Eigen::Vector2d(0.02, 0.0), Eigen::Matrix2d::Identity() * 1e-3);
+  }
+
+  AnalyticTwin inner = make_twin(2);
+  FailingOnLargeBatches failing;
+  Checked twin;
+};
+
 }  // namespace twincal::test_support

@@ -1,5 +1,6 @@
 #include "twincal/controllers/default_controller.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "controller_fixture.hpp"
@@ -44,6 +45,26 @@ TEST(DefaultController, AppliesTheOptimumCorrectedByTheFilterEstimateAndLearns) 
   reference.update(0.9, {x, u});
   EXPECT_EQ(controller.offset_estimate(), reference.state());
   EXPECT_EQ(controller.offset_covariance(), reference.covariance());
+}
+
+// The twin fails at the update's sigma points (TwinError: behind an Evaluator): the measurement
+// is dropped, the filter stays as predicted, the report says why, and the next proposal goes on.
+TEST(DefaultController, DropsAMeasurementItsTwinCannotBeAskedAboutAndGoesOn) {
+  const test_support::FailingTwinSetup setup(0);  // every batch fails
+  using F = test_support::FailingTwinSetup::Filter;
+  F reference = setup.filter();
+  DefaultController<F> controller(setup.filter());
+  const AssemblyId x{3, 3};
+  const Eigen::Vector2d u = controller.propose(x);  // u0 is the twin's own: no evaluation
+  controller.observe(x, u, 0.5);
+  reference.predict();
+  EXPECT_EQ(controller.offset_estimate(), reference.state());
+  EXPECT_EQ(controller.offset_covariance(), reference.covariance());
+  EXPECT_TRUE(controller.last_proposal().dropped());
+  EXPECT_THAT(controller.last_proposal().dropped_measurement,
+              ::testing::HasSubstr("FEM solver crashed"));
+  (void)controller.propose(x);
+  EXPECT_FALSE(controller.last_proposal().dropped());
 }
 
 }  // namespace

@@ -152,16 +152,12 @@ TEST(LookaheadController, ObservingAnotherControlRunsAnOrdinaryUpdate) {
 }
 
 TEST(LookaheadController, ATwinFailureFallsBackToTheDefaultControlWithoutTouchingTheFilter) {
-  const AnalyticTwin inner = make_twin(2);
   // Scoring needs 16 candidates × 5 sigma points in one batch; the filter's update needs 5.
-  const test_support::FailingOnLargeBatches failing(inner, 5);
-  const Evaluator<test_support::FailingOnLargeBatches> twin(failing);
-  using Model = QualityFeedback<Evaluator<test_support::FailingOnLargeBatches>, 2>;
-  using F = UnscentedKalmanFilter<RandomWalk<2>, Model>;
-  F filter(RandomWalk<2>::isotropic(2, 1e-3), Model(twin, 1e-4), test_support::merwe(),
-           Eigen::Vector2d(0.02, 0.0), Eigen::Matrix2d::Identity() * 1e-3);
-  F reference = filter;
-  LookaheadController<F, Sobol> controller(std::move(filter), Sobol(2, scrambled(1)));
+  const test_support::FailingTwinSetup setup(5);
+  const AnalyticTwin& inner = setup.inner;
+  using F = test_support::FailingTwinSetup::Filter;
+  F reference = setup.filter();
+  LookaheadController<F, Sobol> controller(setup.filter(), Sobol(2, scrambled(1)));
   const AssemblyId x{3, 3};
   const Eigen::Vector2d u = controller.propose(x);
   const ProposalReport& report = controller.last_proposal();
@@ -175,6 +171,26 @@ TEST(LookaheadController, ATwinFailureFallsBackToTheDefaultControlWithoutTouchin
   EXPECT_EQ(controller.filter().update_count(), 0U);
   controller.observe(x, u, inner.quality(x, u));  // an ordinary update still works
   EXPECT_EQ(controller.filter().update_count(), 1U);
+}
+
+// A twin that fails everywhere: the proposal falls back, and its observation, an ordinary update
+// at the default control, is dropped (update_or_drop); the filter stays as predicted.
+TEST(LookaheadController, DropsTheMeasurementWhenTheTwinAlsoFailsInTheUpdate) {
+  const test_support::FailingTwinSetup setup(0);  // every batch fails
+  using F = test_support::FailingTwinSetup::Filter;
+  F reference = setup.filter();
+  LookaheadController<F, Sobol> controller(setup.filter(), Sobol(2, scrambled(1)));
+  const AssemblyId x{3, 3};
+  const Eigen::Vector2d u = controller.propose(x);
+  EXPECT_TRUE(controller.last_proposal().fell_back());
+  controller.observe(x, u, 0.5);
+  EXPECT_TRUE(controller.last_proposal().dropped());
+  EXPECT_THAT(controller.last_proposal().dropped_measurement,
+              ::testing::HasSubstr("FEM solver crashed"));
+  reference.predict();
+  EXPECT_EQ(controller.filter().state(), reference.state());
+  EXPECT_EQ(controller.filter().covariance(), reference.covariance());
+  EXPECT_EQ(controller.filter().update_count(), 0U);
 }
 
 TEST(LookaheadController, RejectsBadOptionsAndAMismatchedSampler) {

@@ -62,6 +62,10 @@ void expect_same_result(const EpisodeResult& a, const EpisodeResult& b) {
   EXPECT_EQ(episode_metrics_json(a).dump(), episode_metrics_json(b).dump());
   EXPECT_EQ(a.lost, b.lost);
   EXPECT_EQ(a.failure, b.failure);
+  EXPECT_EQ(a.fallbacks, b.fallbacks);
+  EXPECT_EQ(a.dropped_measurements, b.dropped_measurements);
+  EXPECT_EQ(a.first_fallback_at, b.first_fallback_at);
+  EXPECT_EQ(a.first_fallback, b.first_fallback);
 }
 
 TEST(EpisodeResultCodec, AnEpisodeReadsBackToTheSameNumbers) {
@@ -75,7 +79,7 @@ TEST(EpisodeResultCodec, AnEpisodeReadsBackToTheSameNumbers) {
   }
 }
 
-TEST(EpisodeResultCodec, KeepsNanInfinitySignedZeroAndAFailure) {
+TEST(EpisodeResultCodec, KeepsNanInfinitySignedZeroAFailureAndAFallback) {
   EpisodeResult result;
   result.group = "g";
   result.controller = "w=1";
@@ -95,6 +99,10 @@ TEST(EpisodeResultCodec, KeepsNanInfinitySignedZeroAndAFailure) {
   result.failure = "Cholesky: P is not positive definite";
   result.estimate_error_second_half = std::numeric_limits<double>::quiet_NaN();
   result.lost = true;
+  result.fallbacks = 1;
+  result.dropped_measurements = 2;
+  result.first_fallback_at = 0;
+  result.first_fallback = "proposal: twin: no reply within 5 s";
   const EpisodeResult back = decode_episode_result(encode_episode_result(result));
   expect_same_result(result, back);
   EXPECT_TRUE(std::signbit(back.z_star(0)));

@@ -42,6 +42,7 @@ TEST(ExperimentConfig, RoundTripsThroughJson) {
   config.plant_noise_variance = 1e-6;
   config.seed = 99;
   config.stop_on_divergence = false;
+  config.twin_failure_streak = 9;
   const nlohmann::json json = config;
   const ExperimentConfig back = json.get<ExperimentConfig>();
   EXPECT_EQ(nlohmann::json(back), json);
@@ -50,6 +51,7 @@ TEST(ExperimentConfig, RoundTripsThroughJson) {
   EXPECT_EQ(back.candidate_cap, config.candidate_cap);
   EXPECT_EQ(back.measurement_variance, config.measurement_variance);
   EXPECT_EQ(back.filter, FilterScheme::cubature);
+  EXPECT_EQ(back.twin_failure_streak, 9);
 }
 
 TEST(ExperimentConfig, RoundTripsTheNonlinearityAndThePlant) {
@@ -178,6 +180,10 @@ TEST(ExperimentConfig, ValidateNamesTheBrokenField) {
   EXPECT_NE(
       config.validate()->find("analytic_dimension: value is 100000; rule: must lie in [1, 1024]"),
       std::string::npos);
+  config = {};
+  config.twin_failure_streak = 0;
+  ASSERT_TRUE(config.validate().has_value());
+  EXPECT_NE(config.validate()->find("twin_failure_streak: value is 0"), std::string::npos);
 }
 
 TEST(ExperimentConfig, CandidateCountIsThePapersOrTheSetCountCapped) {
@@ -199,12 +205,13 @@ TEST(ExperimentConfig, CandidateCountIsThePapersOrTheSetCountCapped) {
             std::string::npos);
 }
 
-TEST(ExperimentConfig, EpisodeDefiningJsonIgnoresNameRunsAndControllers) {
+TEST(ExperimentConfig, EpisodeDefiningJsonIgnoresNameRunsControllersAndTheTwinFailureStreak) {
   ExperimentConfig a;
   ExperimentConfig b;
   b.name = "other";
   b.runs = 20;
   b.controllers = {ControllerSpec::baseline()};
+  b.twin_failure_streak = 2;  // whether a failed episode is stored, not what a stored one holds
   EXPECT_EQ(episode_defining_json(a), episode_defining_json(b));
   b.measurement_variance = 1e-4;  // the body's default, spelled out
   EXPECT_EQ(episode_defining_json(a), episode_defining_json(b));

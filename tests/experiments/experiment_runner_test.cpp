@@ -40,9 +40,12 @@ std::string runner_timeless(const fs::path& path) {
   return test_support::timeless_results_file(path);
 }
 
-// A group on tests/data/batch_crashing_twin.py (its u0 search works, every batch crashes it).
+// A group on tests/data/batch_crashing_twin.py (its u0 search works, every batch crashes it):
+// a w-controller's every proposal falls back and every measurement is dropped, so each of its
+// episodes has lost its twin by its third assembly (twin_failure_streak).
 ExperimentGroup batch_crashing_group(std::vector<ControllerSpec> controllers) {
   ExperimentGroup group;
+  group.config.twin_failure_streak = 3;
   group.config.twin_case = TwinCase::external;
   group.config.external_twin = test_support::three_locator_python_twin(
       TWINCAL_TEST_DATA_DIR "/batch_crashing_twin.py", 2, 2, 60);
@@ -74,7 +77,9 @@ TEST(RunExperiments, StoresNoEpisodeWhoseTwinFailedAndGivesUpATwinAfterTwoInARow
   EXPECT_THAT(message, ::testing::HasSubstr(
                            "group \"external/all\": its twin failed in 2 episode(s), then 2 "
                            "episode(s) were not started (two failures in a row); the first: w=1 "
-                           "run 0 step 0: twin: external twin crashed"));
+                           "run 0 step 2: the controller could not use its twin at 3 assemblies "
+                           "in a row (twin_failure_streak); the last: "));
+  EXPECT_THAT(message, ::testing::HasSubstr("twin: external twin crashed"));
   EXPECT_THAT(message, ::testing::HasSubstr("(4 stored)"));
   EXPECT_EQ(store.episodes().size(), 4U);  // the analytic group's four controllers
   for (const auto& episode : store.episodes()) EXPECT_NE(episode["group"], "external/all");

@@ -6,13 +6,17 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "twincal/core/error.hpp"
+#include "twincal/experiments/episode_runner.hpp"
+#include "twincal/experiments/episode_trace.hpp"
 #include "twincal/experiments/experiment_config.hpp"
 #include "twincal/experiments/experiment_runner.hpp"
 #include "twincal/experiments/result_store.hpp"
@@ -460,6 +464,11 @@ class FormulaBackend final : public ExternalTwinBackend {
   void quality_batch(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const override {
     batches_ += 1;
+    if (controls.cols() > 1 &&
+        std::ranges::count(failing_uppers_, assembly.at("upper").get<Index>()) > 0) {
+      throw ExternalTwinError(ExternalTwinFailure::twin_error, assembly.dump(), controls,
+                              "a transient failure, as the test asked");
+    }
     if (evaluations_ != nullptr) *evaluations_ += controls.cols();
     evaluate(assembly, controls, out);
   }
@@ -488,6 +497,9 @@ class FormulaBackend final : public ExternalTwinBackend {
   std::atomic<Index>* evaluations_ = nullptr;              // also counts every evaluation, when set
   Index crash_after_ = std::numeric_limits<Index>::max();  // evaluations a worker answers
   mutable std::atomic<Index> answered_{0};
+  // The upper parts whose assemblies' batches of several controls (not the plant's, nor u0's
+  // search in one control per request) fail, as a solver that does not converge on them.
+  std::vector<Index> failing_uppers_;
 
  private:
   static void evaluate(const nlohmann::json& assembly, const Eigen::Ref<const MatrixX>& controls,
@@ -535,6 +547,86 @@ TEST(ExternalCaseTwin, RunsOnTheBackendItsFactoryMakesAndSearchesOneAssemblyPerW
   twin.quality_batch({1, 2}, controls, out);
   EXPECT_EQ(made->batches_.load(), 1);
   EXPECT_GT(out.minCoeff(), 0.2);
+}
+
+// A twin that fails now and then (on the five assemblies of upper part 1): each such assembly's
+// model cannot be fitted, so it runs on the active controller's fallback, and its sigma-point
+// update fails too, so its measurement is dropped; the episode goes on, counts both and keeps the
+// first reason, and its trace marks them row by row (no longer silent, nor the end of the
+// episode).
+TEST(ExternalCaseTwin, AnEpisodeOfAFailingTwinGoesOnAndCountsItsFallbacksAndDroppedMeasurements) {
+  std::vector<ExperimentGroup> groups(1);
+  ExperimentGroup& group = groups.front();
+  group.config.twin_case = TwinCase::external;
+  group.config.external_twin = minimal_twin(1);
+  group.config.external_twin->upper_parts = 4;
+  group.config.external_twin->lower_parts = 5;
+  group.config.assemblies = 20;
+  FormulaBackend* made = nullptr;
+  const std::vector<CaseTwin> twins = make_case_twins(groups, [&](const ExternalTwinSettings&) {
+    auto backend = std::make_unique<FormulaBackend>(1);
+    made = backend.get();
+    return backend;
+  });
+  ASSERT_NE(made, nullptr);
+  const EpisodeResult calm = run_episode(twins.front(), group.config, ControllerSpec::active(), 0);
+  EXPECT_EQ(calm.fallbacks, 0);
+  EXPECT_EQ(calm.dropped_measurements, 0);
+  EXPECT_EQ(calm.first_fallback_at, -1);
+  EXPECT_EQ(calm.first_fallback, "");
+
+  made->failing_uppers_ = {1};
+  std::ostringstream trace;
+  const EpisodeResult result =
+      write_episode_trace(twins.front(), group.config, ControllerSpec::active(), 0, trace);
+  ASSERT_EQ(result.steps, 20);
+  EXPECT_TRUE(result.failure.empty()) << result.failure;
+  EXPECT_EQ(result.fallbacks, 5);
+  EXPECT_EQ(result.dropped_measurements, 5);
+  EXPECT_EQ(result.assemblies[static_cast<std::size_t>(result.first_fallback_at)].upper, 1);
+  EXPECT_THAT(result.first_fallback, HasSubstr("a transient failure, as the test asked"));
+  EXPECT_THAT(result.first_fallback, ::testing::StartsWith("proposal: "));
+  // Columns 10 and 11 of every row (episode_trace_columns) say whether its assembly fell back
+  // and whether its measurement was dropped.
+  const auto columns = [](const std::string& line) {
+    std::istringstream fields(line);
+    std::vector<std::string> out(12);
+    for (std::string& field : out) std::getline(fields, field, ',');
+    return std::pair(out[10], out[11]);
+  };
+  std::istringstream lines(trace.str());
+  std::string line;
+  std::getline(lines, line);
+  const std::pair<std::string, std::string> header("fell_back", "dropped_measurement");
+  EXPECT_EQ(columns(line), header);
+  Index fell_back = 0;
+  Index dropped = 0;
+  Index first = -1;
+  for (Index t = 0; std::getline(lines, line); ++t) {
+    const auto [proposal, measurement] = columns(line);
+    fell_back += proposal == "true" ? 1 : 0;
+    dropped += measurement == "true" ? 1 : 0;
+    if (first < 0 && (proposal == "true" || measurement == "true")) first = t;
+  }
+  EXPECT_EQ(fell_back, result.fallbacks);
+  EXPECT_EQ(dropped, result.dropped_measurements);
+  EXPECT_EQ(first, result.first_fallback_at);
+  // The baseline asks the twin nothing but u0: never a fallback.
+  const EpisodeResult baseline =
+      run_episode(twins.front(), group.config, ControllerSpec::baseline(), 0);
+  EXPECT_EQ(baseline.fallbacks + baseline.dropped_measurements, 0);
+
+  // A twin that fails at every batch: after twin_failure_streak assemblies in a row without it
+  // the episode has lost its twin, a twin failure (not stored), not a result made without it.
+  made->failing_uppers_ = {0, 1, 2, 3};
+  try {
+    (void)run_episode(twins.front(), group.config, ControllerSpec::active(), 0);
+    ADD_FAILURE() << "an episode without its twin ended as a result";
+  } catch (const TwinFailureError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("active run 0 step 4: the controller could not use its "
+                                        "twin at 5 assemblies in a row (twin_failure_streak)"));
+    EXPECT_THAT(error.what(), HasSubstr("a transient failure, as the test asked"));
+  }
 }
 
 // A sweep over twins against one slow plant: groups that differ only in their twin share the

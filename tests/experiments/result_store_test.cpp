@@ -100,11 +100,15 @@ TEST(ResultStore, RecordsWhatTheU0SearchesOfTwinAndPlantCostPerAssembly) {
   }
 }
 
-TEST_F(ResultStoreOfAnalyticGroup, RecordsTheLostRuleAndReadsItBackIdentically) {
+TEST_F(ResultStoreOfAnalyticGroup, RecordsTheLostRuleAndTheFallbacksAndReadsThemBackIdentically) {
   EpisodeResult lost = run_episode(twin_, group_.config, ControllerSpec::lookahead(0.5), 1);
   lost.estimate_error_second_half = 0.3;  // as assess_lost would record a lost episode
   lost.offset_norm_second_half = 0.1;
   lost.lost = true;
+  lost.fallbacks = 2;  // as an episode whose twin failed three times records them
+  lost.dropped_measurements = 1;
+  lost.first_fallback_at = 7;
+  lost.first_fallback = "proposal: twin: timed out";
   const EpisodeResult baseline = run_episode(twin_, group_.config, ControllerSpec::baseline(), 1);
   std::vector<nlohmann::json> written;
   {
@@ -119,7 +123,14 @@ TEST_F(ResultStoreOfAnalyticGroup, RecordsTheLostRuleAndReadsItBackIdentically) 
   EXPECT_EQ(written[0].at("lost"), true);
   EXPECT_EQ(written[0].at("estimate_error_second_half"), 0.3);
   EXPECT_EQ(written[0].at("offset_norm_second_half"), 0.1);
+  EXPECT_EQ(written[0].at("fallbacks"), 2);
+  EXPECT_EQ(written[0].at("first_fallback_at"), 7);
+  EXPECT_EQ(written[0].at("dropped_measurements"), 1);
+  EXPECT_EQ(written[0].at("first_fallback"), "proposal: twin: timed out");
   EXPECT_EQ(written[1].at("lost"), false);
+  EXPECT_EQ(written[1].at("fallbacks"), 0);
+  EXPECT_EQ(written[1].at("dropped_measurements"), 0);
+  EXPECT_TRUE(written[1].at("first_fallback_at").is_null());
   EXPECT_EQ(written[1].at("estimate_error_second_half"), written[1].at("offset_norm_second_half"));
   const ResultStore reopened(dir_);
   EXPECT_EQ(reopened.episodes(), written);

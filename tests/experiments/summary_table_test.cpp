@@ -11,7 +11,7 @@ namespace {
 using nlohmann::json;
 
 json summary_episode(const std::string& controller, Index run, double residual, double error,
-                     bool diverged, bool lost = false) {
+                     bool diverged, bool lost = false, Index fallbacks = 0, Index dropped = 0) {
   return json{{"group", "g"},
               {"controller", controller},
               {"run", run},
@@ -20,7 +20,9 @@ json summary_episode(const std::string& controller, Index run, double residual, 
               {"diverged_at", diverged ? json(4) : json(nullptr)},
               {"seconds_per_assembly", 2e-6 * static_cast<double>(run + 1)},
               {"q_evaluations_per_assembly", 10.0},
-              {"lost", lost}};
+              {"lost", lost},
+              {"fallbacks", fallbacks},
+              {"dropped_measurements", dropped}};
 }
 
 TEST(Summarize, MediansOverTheRunsThatDidNotDivergeAndCountsDivergences) {
@@ -65,7 +67,7 @@ TEST(Summarize, CountsLostRunsBesideTheDivergedOnes) {
   EXPECT_EQ(rows[1].lost, 2);
   EXPECT_DOUBLE_EQ(rows[1].median_estimation_error, 1.6);  // of 3.0 and 0.2
   const std::string table = format_summary(rows);
-  EXPECT_THAT(table, ::testing::ContainsRegex("runs +diverged +lost +med"));
+  EXPECT_THAT(table, ::testing::ContainsRegex("runs +diverged +lost +fallbacks +dropped +med"));
   EXPECT_THAT(table, ::testing::ContainsRegex("baseline +2 +0 +0 "));
   EXPECT_THAT(table, ::testing::ContainsRegex("default +3 +1 +2 "));
 }
@@ -80,6 +82,36 @@ TEST(Summarize, LeavesTheLostCountOpenForRecordsFromBeforeTheRule) {
   ASSERT_EQ(rows.size(), 1U);
   EXPECT_FALSE(rows[0].lost.has_value());
   EXPECT_THAT(format_summary(rows), ::testing::ContainsRegex("default +2 +0 +- "));
+}
+
+TEST(Summarize, SumsTheFallbacksAndTheDroppedMeasurementsOverTheRuns) {
+  const json groups =
+      json::array({json{{"name", "g"}, {"config", json{{"controllers", {"baseline", "active"}}}}}});
+  const std::vector<json> episodes{summary_episode("baseline", 0, 0.3, 1.0, false),
+                                   summary_episode("active", 0, 0.1, 0.2, false, false, 3, 1),
+                                   summary_episode("active", 1, 0.1, 0.2, false, false, 0, 0),
+                                   summary_episode("active", 2, 0.9, 3.0, false, true, 40, 6)};
+  const std::vector<SummaryRow> rows = summarize(groups, episodes);
+  ASSERT_EQ(rows.size(), 2U);
+  EXPECT_EQ(rows[0].fallbacks, 0);
+  EXPECT_EQ(rows[0].dropped_measurements, 0);
+  EXPECT_EQ(rows[1].fallbacks, 43);
+  EXPECT_EQ(rows[1].dropped_measurements, 7);
+  EXPECT_THAT(format_summary(rows), ::testing::ContainsRegex("active +3 +0 +1 +43 +7 "));
+}
+
+TEST(Summarize, LeavesTheFallbackCountOpenForRecordsFromBeforeIt) {
+  const json groups =
+      json::array({json{{"name", "g"}, {"config", json{{"controllers", {"active"}}}}}});
+  json old = summary_episode("active", 0, 0.1, 0.2, false);
+  old.erase("fallbacks");
+  old.erase("dropped_measurements");
+  const std::vector<SummaryRow> rows =
+      summarize(groups, {old, summary_episode("active", 1, 0.1, 0.2, false, false, 2)});
+  ASSERT_EQ(rows.size(), 1U);
+  EXPECT_FALSE(rows[0].fallbacks.has_value());
+  EXPECT_FALSE(rows[0].dropped_measurements.has_value());
+  EXPECT_THAT(format_summary(rows), ::testing::ContainsRegex("active +2 +0 +0 +- +- "));
 }
 
 TEST(Summarize, AllRunsDivergedLeavesNoMedian) {

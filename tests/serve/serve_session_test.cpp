@@ -422,6 +422,48 @@ TEST(ServeSession, TakesScannedPartsSearchesTheirOptimumAndResumesFromThem) {
   EXPECT_EQ(resumed.state()["estimate"], expected_estimate);
 }
 
+// A twin that fails now and then (tests/data/flaky_twin.py: every batch of several controls for
+// parts whose first upper deviation is 0.2, here assemblies 2 and 7): the session goes on; a
+// proposal made on the controller's fallback says why in its report, and an observation whose
+// update the twin failed says that its measurement was dropped, so the cell sees what a silent
+// fallback would hide.
+TEST(ServeSession, ATwinThatFailsNowAndThenIsReportedAndDoesNotStopTheSession) {
+  const TemporaryDatabase database;
+  ServeOptions options = scanned_parts_options();
+  options.config.external_twin->command.back() = TWINCAL_TEST_DATA_DIR "/flaky_twin.py";
+  ServeSession session = ServeSession::start(options, database.get());
+  Index fell_back = 0;
+  Index dropped = 0;
+  for (int t = 0; t < 12; ++t) {
+    const std::string serial = fmt::format("serial-{}", t);
+    const json proposal =
+        call(session, {{"op", "propose"}, {"assembly", serial}, {"parts", scanned_parts(t)}});
+    ASSERT_TRUE(proposal["ok"].get<bool>()) << proposal.dump();
+    const json& report = proposal["report"];
+    if (report.contains("fallback")) {
+      ++fell_back;
+      EXPECT_THAT(report["fallback"].get<std::string>(), HasSubstr("the solver did not converge"));
+    }
+    const json predicted = call(session, {{"op", "predict"},
+                                          {"assembly", serial},
+                                          {"parts", scanned_parts(t)},
+                                          {"control", proposal["control"]}});
+    ASSERT_TRUE(predicted["ok"].get<bool>()) << predicted.dump();
+    const json observed = call(session, {{"op", "observe"},
+                                         {"request_id", proposal["request_id"]},
+                                         {"quality", predicted["quality"]}});
+    ASSERT_TRUE(observed["ok"].get<bool>()) << observed.dump();
+    if (observed.contains("dropped_measurement")) {
+      ++dropped;
+      EXPECT_THAT(observed["dropped_measurement"].get<std::string>(),
+                  HasSubstr("the solver did not converge"));
+    }
+  }
+  EXPECT_EQ(fell_back, 2);
+  EXPECT_EQ(dropped, 2);
+  EXPECT_EQ(call(session, {{"op", "state"}})["observed"], 12);
+}
+
 TEST(ServeSession, ResumesScannedPartsFromTheirRecordedOptimumWithoutSearchingAgain) {
   const TemporaryDatabase database;
   {

@@ -76,6 +76,10 @@ std::vector<std::uint8_t> encode_episode_result(const EpisodeResult& result) {
                    {"seconds_per_assembly", result.seconds_per_assembly},
                    {"q_evaluations_per_assembly", result.q_evaluations_per_assembly},
                    {"failure", result.failure},
+                   {"fallbacks", result.fallbacks},
+                   {"dropped_measurements", result.dropped_measurements},
+                   {"first_fallback_at", result.first_fallback_at},
+                   {"first_fallback", result.first_fallback},
                    {"estimate_error_second_half", result.estimate_error_second_half},
                    {"offset_norm_second_half", result.offset_norm_second_half},
                    {"lost", result.lost}};
@@ -120,6 +124,10 @@ EpisodeResult decode_episode_result(std::span<const std::uint8_t> bytes) {
     result.seconds_per_assembly = value.at("seconds_per_assembly").get<double>();
     result.q_evaluations_per_assembly = value.at("q_evaluations_per_assembly").get<double>();
     result.failure = value.at("failure").get<std::string>();
+    result.fallbacks = value.at("fallbacks").get<Index>();
+    result.dropped_measurements = value.at("dropped_measurements").get<Index>();
+    result.first_fallback_at = value.at("first_fallback_at").get<Index>();
+    result.first_fallback = value.at("first_fallback").get<std::string>();
     result.estimate_error_second_half = value.at("estimate_error_second_half").get<double>();
     result.offset_norm_second_half = value.at("offset_norm_second_half").get<double>();
     result.lost = value.at("lost").get<bool>();

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <exception>
 #include <limits>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
@@ -107,6 +108,14 @@ AnyController make_controller(const EpisodeSetup& setup, const ControllerSpec& s
   return make_with_dimension<Dynamic>(setup, spec);
 }
 
+// Keeps the episode's first fallback or dropped measurement (EpisodeResult::first_fallback).
+void note_first_fallback(EpisodeResult& result, Index t, std::string_view what,
+                         std::string_view why) {
+  if (result.first_fallback_at >= 0) return;
+  result.first_fallback_at = t;
+  result.first_fallback = fmt::format("{}: {}", what, why);
+}
+
 // The episode loop (episode_runner.hpp) over `order`; `result` is sized for it and filled. N
 // selects the drift's vector type, so that every controller of a run computes δu*_t with the
 // same arithmetic.
@@ -127,6 +136,8 @@ void simulate(AnyController& controller, const EpisodeSetup& setup,
   Vector<N> shifted(d);
   Vector<N> error(d);
 
+  Index without_twin = 0;    // assemblies in a row that fell back or dropped their measurement
+  std::string_view trouble;  // the last one's reason (valid until the next propose)
   double residuals = 0.0;
   double errors = 0.0;
   double seconds = 0.0;
@@ -142,11 +153,23 @@ void simulate(AnyController& controller, const EpisodeSetup& setup,
       Stopwatch watch;
       controller.propose(x, u);
       double elapsed = watch.seconds();
+      const std::string_view fell_back = controller.fallback();
+      if (!fell_back.empty()) {
+        ++result.fallbacks;
+        note_first_fallback(result, t, "proposal", fell_back);
+      }
       shifted = u - drift.offset();
       const double z = twin.plant_quality(x, shifted) + noise_sd * v;
       watch.restart();
       controller.observe(x, u, z);
       elapsed += watch.seconds();
+      const std::string_view dropped = controller.dropped_measurement();
+      if (!dropped.empty()) {
+        ++result.dropped_measurements;
+        note_first_fallback(result, t, "measurement dropped", dropped);
+      }
+      without_twin = fell_back.empty() && dropped.empty() ? 0 : without_twin + 1;
+      trouble = dropped.empty() ? fell_back : dropped;
 
       result.z(t) = z;
       result.z_star(t) = twin.plant_optimal_quality(x);
@@ -168,6 +191,12 @@ void simulate(AnyController& controller, const EpisodeSetup& setup,
       result.failure = failure.what();
       if (result.diverged_at < 0) result.diverged_at = t;
       break;
+    }
+    if (without_twin >= config.twin_failure_streak) {
+      throw TwinFailureError(
+          "twin", fmt::format("{} run {} step {}: the controller could not use its twin at {} "
+                              "assemblies in a row (twin_failure_streak); the last: {}",
+                              result.controller, result.run, t, without_twin, trouble));
     }
     if (observer) observer(t, result, controller);
     error = result.estimate.col(t) - result.offset.col(t);

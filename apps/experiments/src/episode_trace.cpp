@@ -36,12 +36,14 @@ EpisodeResult write_episode_trace(const CaseTwin& twin, const ExperimentConfig& 
       out << episode_trace_columns << report_keys << '\n';
     }
     const AssemblyId& x = result.assemblies[static_cast<std::size_t>(t)];
-    line = fmt::format("{},{},{},{},{},{},{},{},{},{}", t, x.upper, x.lower,
+    line = fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}", t, x.upper, x.lower,
                        csv_number(result.z(t)), csv_number(result.z_star(t)),
                        csv_number((result.z(t) - result.z_star(t)) / result.z_star(t)),
                        csv_number((result.estimate.col(t) - result.offset.col(t)).norm()),
                        csv_number(result.offset.col(t).norm()), csv_number(result.trace_p(t)),
-                       csv_number(result.q_evaluations(t)));
+                       csv_number(result.q_evaluations(t)),
+                       episode_controller.fallback().empty() ? "false" : "true",
+                       episode_controller.dropped_measurement().empty() ? "false" : "true");
     for (const auto& item : report.items()) line += "," + field(item.key(), item.value());
     out << line << '\n' << std::flush;
     if (!out) throw Error("trace", "trace: the output cannot be written");

@@ -149,6 +149,7 @@ std::optional<std::string> ExperimentConfig::validate() const {
                    candidate_cap.value_or(0), "must be >= 1 (unset: no cap)"),
        rule::check(runs >= 1 && runs <= max_runs, "runs", runs, "must lie in [1, {}]", max_runs),
        rule::at_least("assemblies", assemblies, Index{1}),
+       rule::at_least("twin_failure_streak", twin_failure_streak, Index{1}),
        rule::nested("active", active),
        rule::check(name.find_first_of(",\n\"") == std::string::npos, "name", name,
                    "must not contain commas, quotes or newlines")});
@@ -293,6 +294,7 @@ const std::map<std::string, Field, std::less<>>& fields() {
     t["divergence_threshold"] =
         plain(&ExperimentConfig::divergence_threshold, "divergence_threshold");
     t["stop_on_divergence"] = plain(&ExperimentConfig::stop_on_divergence, "stop_on_divergence");
+    t["twin_failure_streak"] = plain(&ExperimentConfig::twin_failure_streak, "twin_failure_streak");
     return t;
   }();
   return table;
@@ -347,6 +349,8 @@ nlohmann::json episode_defining_json(const ExperimentConfig& config) {
   json.erase("name");
   json.erase("runs");
   json.erase("controllers");
+  // Whether an episode that lost its twin is stored, not what a stored one holds.
+  json.erase("twin_failure_streak");
   // The pool's size and patience, and where searched optima are kept, change no episode.
   if (config.external_twin) json["external_twin"] = result_defining_json(*config.external_twin);
   if (config.plant_external_twin) {

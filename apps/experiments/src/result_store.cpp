@@ -89,6 +89,11 @@ json episode_metrics_json(const EpisodeResult& result) {
               {"seconds_per_assembly", number_json(result.seconds_per_assembly)},
               {"q_evaluations_per_assembly", number_json(result.q_evaluations_per_assembly)},
               {"failure", result.failure},
+              {"fallbacks", result.fallbacks},
+              {"dropped_measurements", result.dropped_measurements},
+              {"first_fallback_at",
+               result.first_fallback_at >= 0 ? json(result.first_fallback_at) : json(nullptr)},
+              {"first_fallback", result.first_fallback},
               {"estimate_error_second_half", number_json(result.estimate_error_second_half)},
               {"offset_norm_second_half", number_json(result.offset_norm_second_half)},
               {"lost", result.lost}};

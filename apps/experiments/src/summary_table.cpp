@@ -62,6 +62,9 @@ std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& e
     Index divergences = 0;
     Index lost = 0;
     bool lost_known = true;
+    Index fallbacks = 0;
+    Index dropped = 0;
+    bool fallbacks_known = true;
   };
   std::map<std::pair<std::string, std::string>, Collected> collected;
   for (const json& episode : episodes) {
@@ -80,6 +83,14 @@ std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& e
     } else if (lost->get<bool>()) {
       ++c.lost;
     }
+    const auto fallbacks = episode.find("fallbacks");
+    const auto dropped = episode.find("dropped_measurements");
+    if (fallbacks == episode.end() || dropped == episode.end()) {
+      c.fallbacks_known = false;
+    } else {
+      c.fallbacks += fallbacks->get<Index>();
+      c.dropped += dropped->get<Index>();
+    }
     c.seconds.push_back(value_or_nan(episode, "seconds_per_assembly"));
     c.evaluations.push_back(value_or_nan(episode, "q_evaluations_per_assembly"));
   }
@@ -92,6 +103,8 @@ std::vector<SummaryRow> summarize(const json& groups, const std::vector<json>& e
       const Collected& c = it->second;
       rows.push_back({name, label.get<std::string>(), c.runs, c.divergences,
                       c.lost_known ? std::optional<Index>(c.lost) : std::nullopt,
+                      c.fallbacks_known ? std::optional<Index>(c.fallbacks) : std::nullopt,
+                      c.fallbacks_known ? std::optional<Index>(c.dropped) : std::nullopt,
                       median(c.residuals), median(c.errors), mean(c.seconds), mean(c.evaluations)});
     }
   }
@@ -105,17 +118,20 @@ std::string format_summary(const std::vector<SummaryRow>& rows) {
     group_width = std::max(group_width, row.group.size());
     controller_width = std::max(controller_width, row.controller.size());
   }
-  std::string out =
-      fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>5} {:>12} {:>12} {:>12} {:>10}\n", "group",
-                  group_width, "controller", controller_width, "runs", "diverged", "lost",
-                  "med (z-z*)/z*", "med |du-du*|", "us/assembly", "Q/assembly");
+  const auto count = [](const std::optional<Index>& value) {
+    return value ? fmt::format("{}", *value) : std::string("-");
+  };
+  std::string out = fmt::format(
+      "{:<{}}  {:<{}} {:>5} {:>9} {:>5} {:>9} {:>7} {:>12} {:>12} {:>12} {:>10}\n", "group",
+      group_width, "controller", controller_width, "runs", "diverged", "lost", "fallbacks",
+      "dropped", "med (z-z*)/z*", "med |du-du*|", "us/assembly", "Q/assembly");
   for (const SummaryRow& row : rows) {
-    out += fmt::format("{:<{}}  {:<{}} {:>5} {:>9} {:>5} {:>12} {:>12} {:>12} {:>10}\n", row.group,
-                       group_width, row.controller, controller_width, row.runs, row.divergences,
-                       row.lost ? fmt::format("{}", *row.lost) : "-",
-                       cell(row.median_relative_residual, 4), cell(row.median_estimation_error, 4),
-                       cell(1e6 * row.seconds_per_assembly, 1),
-                       cell(row.q_evaluations_per_assembly, 1));
+    out += fmt::format(
+        "{:<{}}  {:<{}} {:>5} {:>9} {:>5} {:>9} {:>7} {:>12} {:>12} {:>12} {:>10}\n", row.group,
+        group_width, row.controller, controller_width, row.runs, row.divergences, count(row.lost),
+        count(row.fallbacks), count(row.dropped_measurements),
+        cell(row.median_relative_residual, 4), cell(row.median_estimation_error, 4),
+        cell(1e6 * row.seconds_per_assembly, 1), cell(row.q_evaluations_per_assembly, 1));
   }
   return out;
 }

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <string>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
@@ -61,15 +63,22 @@ void require_keys(const json& request, std::string_view op,
 
 // Whether a recomputed report is the recorded one: u0, z*, δû and σ bit for bit. Its
 // twin_evaluations is a cost, not a result (a resume from a snapshot searches u0 again where the
-// recorded run had it cached); the row's checksum covers it.
+// recorded run had it cached), and its fallback a reason (a twin error need not recur in a
+// replay; the recomputed control is compared on its own); the row's checksum covers both.
 bool same_report(const json& recomputed, const json& recorded) {
   if (!recomputed.is_object() || !recorded.is_object()) return recomputed == recorded;
+  const auto is_compared = [](const std::string& key) {
+    return key != "twin_evaluations" && key != "fallback";
+  };
+  Index compared = 0;
   for (const auto& [key, value] : recomputed.items()) {
-    if (key == "twin_evaluations") continue;
+    if (!is_compared(key)) continue;
     const auto it = recorded.find(key);
     if (it == recorded.end() || *it != value) return false;
+    ++compared;
   }
-  return recomputed.size() == recorded.size();
+  for (const auto& [key, value] : recorded.items()) compared -= is_compared(key) ? 1 : 0;
+  return compared == 0;
 }
 
 ExperimentConfig settings_config(const json& settings) {
@@ -319,17 +328,20 @@ json ServeSession::make_proposal(std::int64_t request_id, const AssemblyId& asse
     const double sd = std::sqrt(covariance_(i, i));
     standard_deviation.push_back(std::isfinite(sd) ? json(sd) : json(nullptr));
   }
+  json report{{"optimum", vector_json(optimum)},
+              {"optimal_quality", twin_->optimal_quality(assembly)},
+              {"estimate", estimate_json()},
+              {"standard_deviation", standard_deviation},
+              {"twin_evaluations", evaluations}};
+  if (const std::string_view why = controller_.fallback(); !why.empty()) {
+    report["fallback"] = why;
+  }
   return {{"ok", true},
           {"op", "propose"},
           {"request_id", request_id},
           {"assembly", echo(stored)},
           {"control", vector_json(control_)},
-          {"report",
-           {{"optimum", vector_json(optimum)},
-            {"optimal_quality", twin_->optimal_quality(assembly)},
-            {"estimate", estimate_json()},
-            {"standard_deviation", standard_deviation},
-            {"twin_evaluations", evaluations}}}};
+          {"report", std::move(report)}};
 }
 
 json ServeSession::propose(const json& request) {
@@ -398,8 +410,12 @@ json ServeSession::observe(const json& request) {
   pending_.reset();
   ++observed_;
   snapshot_if_due(/*now=*/false);
-  return {{"ok", true},           {"op", "observe"},          {"request_id", request_id},
-          {"estimate", estimate}, {"covariance", covariance}, {"observed", observed_}};
+  json reply{{"ok", true},           {"op", "observe"},          {"request_id", request_id},
+             {"estimate", estimate}, {"covariance", covariance}, {"observed", observed_}};
+  if (const std::string_view why = controller_.dropped_measurement(); !why.empty()) {
+    reply["dropped_measurement"] = why;
+  }
+  return reply;
 }
 
 json ServeSession::predict(const json& request) {

@@ -40,9 +40,12 @@
 /// the sigma points in the fallback — O(d²), against the paper's O(2^d) candidates × sigma points.
 ///
 /// Failure policy: when fitting or checking the model fails (a twin error, a non-finite value),
-/// the assembly runs in the sigma-point mode with p = 0, and last_proposal().fallback says why;
-/// the estimate is not touched before observe. Non-finite z is refused by observe (NonFiniteError)
-/// with the state unchanged.
+/// the assembly runs in the sigma-point mode with p = 0, and last_proposal().fallback says why
+/// (after a TwinError the model is tried again at the next assembly, else after quadratic_retry);
+/// the estimate is not touched before observe. When the twin fails (TwinError) in the
+/// sigma-point update, observe drops z — the estimate stays as predicted, as a filter's does
+/// without a measurement — and last_proposal().dropped_measurement says why. Non-finite z is
+/// refused by observe (NonFiniteError) with the state unchanged.
 
 #include <algorithm>
 #include <array>
@@ -229,12 +232,18 @@ class ActiveCalibrationController {
         model_center_ =
             model_center_.cwiseMax(twin_->lower_bounds()).cwiseMin(twin_->upper_bounds());
       }
+      // A twin that failed (TwinError) says nothing about its model: the model is tried again
+      // at the next assembly, not after quadratic_retry assemblies on sigma points.
+      Index retry = options_.quadratic_retry;
       try {
         evaluations += fit_model(assembly, estimator_.position_covariance());
-      } catch (const std::exception& error) {
+      } catch (const TwinError& error) {
         report_.fallback = error.what();  // fit_model sets quadratic_ only once it succeeds
+        retry = 1;
+      } catch (const std::exception& error) {
+        report_.fallback = error.what();
       }
-      if (!quadratic_) retry_at_ = assemblies_ + options_.quadratic_retry;
+      if (!quadratic_) retry_at_ = assemblies_ + retry;
     }
     step_.quadratic = quadratic_;
     ++assemblies_;
@@ -297,8 +306,10 @@ class ActiveCalibrationController {
   /// Updates the estimate with the measured quality z_t of the applied control (step 4). A
   /// control other than the proposal, or an observe without a propose, is updated with sigma
   /// points (its model may not hold there).
+  /// A TwinError in the sigma-point mode's update drops z: the estimate stays as predicted, and
+  /// last_proposal().dropped_measurement says why.
   /// @throws NonFiniteError (z), DimensionMismatchError (control), with the state unchanged;
-  ///         the twin's errors in the sigma-point mode, also with the state unchanged.
+  ///         the twin's other errors in the sigma-point mode, also with the state unchanged.
   void observe(const Assembly& assembly, const ControlVector& control, double z) {
     require_dimension("control", control.size(), dimension());
     require_finite("z", z);
@@ -307,7 +318,14 @@ class ActiveCalibrationController {
       if (step_.audited) record_audit(z);
       update_estimator(assembly, control, z);
     } else {
-      update_sigma_points(assembly, control, z);
+      try {
+        update_sigma_points(assembly, control, z);
+      } catch (const TwinError& error) {
+        // As a filter drops a missing measurement: the estimate stays as predicted (the update
+        // changes nothing before its last twin call succeeded).
+        report_.dropped_measurement = error.what();
+        step_.gated = false;
+      }
     }
     pending_ = false;
   }

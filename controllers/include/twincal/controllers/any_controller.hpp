@@ -12,6 +12,7 @@
 #include <concepts>
 #include <limits>
 #include <memory>
+#include <string_view>
 #include <utility>
 
 #include <Eigen/Core>
@@ -59,6 +60,17 @@ class AnyController {
   /// empty object for a controller that reports nothing more. `twincal trace` prints it.
   [[nodiscard]] nlohmann::json step_report() const { return model_->step_report(); }
 
+  /// Why the last proposal fell back to the controller's default control
+  /// (ProposalReport::fallback: a twin error, a model that could not be fitted); empty when it
+  /// did not, or the controller has no fallback. The view is valid until the next propose.
+  [[nodiscard]] std::string_view fallback() const noexcept { return model_->fallback(); }
+  /// Why the last observe dropped its measurement, the estimate staying as predicted
+  /// (ProposalReport::dropped_measurement: the twin failed at the update's sigma points); empty
+  /// when it did not. Valid until the next propose.
+  [[nodiscard]] std::string_view dropped_measurement() const noexcept {
+    return model_->dropped_measurement();
+  }
+
   /// The wrapped controller's snapshot (SnapshotController, controllers' controller.hpp): what
   /// it carries from one assembly to the next, as JSON that reads back bit for bit.
   [[nodiscard]] nlohmann::json save() const { return model_->save(); }
@@ -80,6 +92,8 @@ class AnyController {
     virtual void offset_covariance(Eigen::Ref<MatrixX>) const = 0;
     [[nodiscard]] virtual double covariance_trace() const = 0;
     [[nodiscard]] virtual nlohmann::json step_report() const = 0;
+    [[nodiscard]] virtual std::string_view fallback() const noexcept = 0;
+    [[nodiscard]] virtual std::string_view dropped_measurement() const noexcept = 0;
     [[nodiscard]] virtual nlohmann::json save() const = 0;
     virtual void restore(const nlohmann::json&) = 0;
     Index dimension;
@@ -125,6 +139,20 @@ class AnyController {
         return active_step_report_to_json(controller.last_step());
       } else {
         return nlohmann::json::object();
+      }
+    }
+    [[nodiscard]] std::string_view fallback() const noexcept override {
+      if constexpr (requires(const C& c) { c.last_proposal().fallback; }) {
+        return controller.last_proposal().fallback;
+      } else {
+        return {};
+      }
+    }
+    [[nodiscard]] std::string_view dropped_measurement() const noexcept override {
+      if constexpr (requires(const C& c) { c.last_proposal().dropped_measurement; }) {
+        return controller.last_proposal().dropped_measurement;
+      } else {
+        return {};
       }
     }
     [[nodiscard]] nlohmann::json save() const override { return controller.save(); }

@@ -315,7 +315,8 @@ inline void require_format(const nlohmann::json& saved, std::string_view format)
           {"loss", number_to_json(report.loss)},
           {"quality_evaluations", report.quality_evaluations},
           {"optimizer_evaluations", report.optimizer_evaluations},
-          {"fallback", report.fallback}};
+          {"fallback", report.fallback},
+          {"dropped_measurement", report.dropped_measurement}};
 }
 
 /// The inverse of report_to_json for a controller of `d` locators (vectors of d or no entries).
@@ -339,6 +340,7 @@ inline void require_format(const nlohmann::json& saved, std::string_view format)
   report.quality_evaluations = read_count(saved, "quality_evaluations");
   report.optimizer_evaluations = read_count(saved, "optimizer_evaluations");
   report.fallback = read_string(saved, "fallback");
+  report.dropped_measurement = read_string(saved, "dropped_measurement");
   return report;
 }
 

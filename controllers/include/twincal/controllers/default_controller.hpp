@@ -17,6 +17,7 @@
 #include "twincal/controllers/optimizer.hpp"
 #include "twincal/controllers/proposal_report.hpp"
 #include "twincal/controllers/quality_filter.hpp"
+#include "twincal/controllers/update_or_drop.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/validate.hpp"
 
@@ -50,9 +51,10 @@ class DefaultController {
     return control;
   }
 
-  /// Updates the filter with the measured quality z_t of the applied control u_t.
+  /// Updates the filter with the measured quality z_t of the applied control u_t; drops z_t when
+  /// the twin fails at the update's sigma points (update_or_drop: last_proposal() says why).
   void observe(const Assembly& assembly, const ControlVector& control, double z) {
-    filter_.update(z, {assembly, control});
+    update_or_drop(filter_, z, {assembly, control}, report_);
   }
 
   [[nodiscard]] const ControlVector& offset_estimate() const noexcept { return filter_.state(); }

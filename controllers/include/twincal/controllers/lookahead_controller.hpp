@@ -16,7 +16,8 @@
 /// Failure policy: if drawing, evaluating or previewing fails (a twin error, a non-finite value,
 /// a posterior that cannot be factored), u_t is the default control û*, the reason is recorded in
 /// last_proposal().fallback, and the filter (already predicted, as every controller's is) is not
-/// touched; observe then runs an ordinary update. When no candidate survives the box, the default
+/// touched; observe then runs an ordinary update, and drops z_t if the twin fails there too
+/// (update_or_drop). When no candidate survives the box, the default
 /// control, the box's centre, is the only candidate.
 
 #include <algorithm>
@@ -45,6 +46,7 @@
 #include "twincal/controllers/quality_filter.hpp"
 #include "twincal/controllers/sampler_state.hpp"
 #include "twincal/controllers/trace_loss.hpp"
+#include "twincal/controllers/update_or_drop.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/core/validate.hpp"
@@ -107,13 +109,14 @@ class LookaheadController {
   }
 
   /// Updates the filter with z_t: commits the chosen candidate's preview when `control` is the
-  /// proposal (no evaluation), otherwise an ordinary update at `control`.
+  /// proposal (no evaluation), otherwise an ordinary update at `control`, which drops z_t when
+  /// the twin fails at its sigma points (update_or_drop: last_proposal() says why).
   void observe(const Assembly& assembly, const ControlVector& control, double z) {
     require_dimension("control", control.size(), filter_.dimension());
     if (has_pending_ && control == chosen_) {
       filter_.commit(previews_[pending_slot_], z);
     } else {
-      filter_.update(z, {assembly, control});
+      update_or_drop(filter_, z, {assembly, control}, report_);
     }
     has_pending_ = false;
   }

@@ -3,7 +3,8 @@
 /// `ProposalReport`: what a filter-based controller did for one assembly — the individualized
 /// control it started from, the default control u0 + δû (eq. 9), the candidate set of eq. (14),
 /// the chosen candidate's losses (eqs. 11–13), the Q-evaluations spent, and, when something went
-/// wrong, why it fell back to the default control.
+/// wrong, why it fell back to the default control — and, once the assembly is observed, why its
+/// measurement could not update the estimate (the twin failed at the update's sigma points).
 
 #include <cstdint>
 #include <limits>
@@ -29,8 +30,12 @@ struct ProposalReport {
   std::uint64_t quality_evaluations = 0;    ///< Q calls for scoring (candidates × sigma points)
   std::uint64_t optimizer_evaluations = 0;  ///< Q calls for u0 (0 for an exact optimum)
   std::string fallback;  ///< why the default control was used instead (empty: it was not)
+  /// Why observe dropped z_t, the estimate staying as predicted (a TwinError in the update; empty:
+  /// z_t was used).
+  std::string dropped_measurement;
 
   [[nodiscard]] bool fell_back() const noexcept { return !fallback.empty(); }
+  [[nodiscard]] bool dropped() const noexcept { return !dropped_measurement.empty(); }
 
   /// Back to a fresh report, keeping the vectors' and the string's storage: a controller resets
   /// its report every assembly, and same-size assignments afterwards then allocate nothing.
@@ -53,6 +58,7 @@ struct ProposalReport {
     quality_evaluations = 0;
     optimizer_evaluations = 0;
     fallback.clear();
+    dropped_measurement.clear();
   }
 };
 

@@ -44,6 +44,17 @@ class DimensionMismatchError : public InvalidArgumentError {
   long long expected_;
 };
 
+/// A twin could not answer: its solver did not converge, its program died, hung or answered an
+/// error, its value was not finite. A failure of the twin at the controls it was asked, not of
+/// the caller's input: the controllers go on by their documented failure policies (a proposal on
+/// the default control; a measurement the estimate cannot be updated with is dropped), where any
+/// other error stops them. ExternalTwinError and EvaluationError are TwinErrors; a twin of one's
+/// own throws one (or a class derived from it) for a failure it need not repeat elsewhere.
+class TwinError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// A NaN or infinity where only finite numbers are allowed (input, twin output, filter state).
 class NonFiniteError : public Error {
  public:

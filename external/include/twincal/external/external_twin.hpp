@@ -126,13 +126,13 @@ inline void require_key_points(Index key_points) {
   }
 }
 
-class ExternalTwinError : public Error {
+class ExternalTwinError : public TwinError {
  public:
   ExternalTwinError(ExternalTwinFailure failure, std::string assembly, MatrixX controls,
                     const std::string& detail)
-      : Error("twin", fmt::format("twin: external twin {}: {} (request: assembly {}, {} "
-                                  "control(s))",
-                                  to_string(failure), detail, assembly, controls.cols())),
+      : TwinError("twin", fmt::format("twin: external twin {}: {} (request: assembly {}, {} "
+                                      "control(s))",
+                                      to_string(failure), detail, assembly, controls.cols())),
         failure_(failure),
         assembly_(std::move(assembly)),
         controls_(std::move(controls)),

@@ -59,13 +59,13 @@ template <typename Assembly>
   }
 }
 
-class EvaluationError : public Error {
+class EvaluationError : public TwinError {
  public:
   /// `controls`: d × k controls of the failing call; `column`: the failing control, if known;
   /// `detail`: what happened (the value, the cause's message, the time).
   EvaluationError(EvaluationFailure failure, std::string assembly, MatrixX controls,
                   std::optional<Index> column, const std::string& detail)
-      : Error("quality", make_message(failure, assembly, controls, column, detail)),
+      : TwinError("quality", make_message(failure, assembly, controls, column, detail)),
         failure_(failure),
         assembly_(std::move(assembly)),
         controls_(std::move(controls)),

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// `EpisodeResult`: what one episode (one controller, one run) produced — per assembly the
-/// trace (z_t, z*_t, u_t, δû_t, δu*_t, tr P_t, Q-evaluations, wall time) and the paper's
+/// trace (z_t, z*_t, u_t, δû_t, δu*_t, tr P_t, Q-evaluations, wall time), the assemblies that
+/// fell back to the default control, and the paper's
 /// metrics (Sec. 3): the mean relative residual (1/T) Σ (z_t − z*_t)/z*_t, the mean estimation
 /// error (1/T) Σ ‖δû_t − δu*_t‖ and the divergence ‖δû_t − δu*_t‖ > 10 with its step — and,
 /// beyond the paper, whether the controller ended up lost (assess_lost).
@@ -46,6 +47,17 @@ struct EpisodeResult {
   /// Why the episode stopped early other than by divergence (a controller error), else empty.
   /// An error also counts as a divergence at its step.
   std::string failure;
+  /// Assemblies whose proposal fell back to the controller's default control
+  /// (AnyController::fallback: a twin error, a model that could not be fitted); a controller
+  /// without a fallback records 0.
+  Index fallbacks = 0;
+  /// Assemblies whose measurement the estimate could not be updated with and dropped
+  /// (AnyController::dropped_measurement: the twin failed at the update's sigma points).
+  Index dropped_measurements = 0;
+  /// The first assembly that fell back or dropped its measurement, −1 if none.
+  Index first_fallback_at = -1;
+  /// What happened there: "proposal: <why>" or "measurement dropped: <why>"; empty if none.
+  std::string first_fallback;
 
   // --- the lost rule (assess_lost) over the second half of the `steps` assemblies ------------
   double estimate_error_second_half = 0.0;  ///< mean ‖δû_t − δu*_t‖ there, NaN if no steps

@@ -20,12 +20,15 @@ namespace twincal {
 /// key (in the key order of its JSON object), none for a controller that reports nothing more.
 inline constexpr const char* episode_trace_columns =
     "t,upper,lower,z,z_star,relative_residual,estimation_error,offset_norm,trace_p,"
-    "q_evaluations";
+    "q_evaluations,fell_back,dropped_measurement";
 
 /// Runs episode (`controller`, `run`) of `config` on `twin` as run_episode does — the same
 /// result, digit for digit — and writes its trace to `out`: a header line, then after each
 /// assembly t its row: t, the assembly's parts, z_t, z*_t, (z_t − z*_t)/z*_t, ‖δû_t − δu*_t‖,
-/// ‖δu*_t‖, tr P_t, the twin evaluations, then the step report's values (numbers in their
+/// ‖δu*_t‖, tr P_t, the twin evaluations, whether the proposal fell back to the default
+/// control (AnyController::fallback) and whether the measurement was dropped
+/// (AnyController::dropped_measurement; the episode's first reason is in the result), then the
+/// step report's values (numbers in their
 /// shortest exact form, NaN as `nan`, ±∞ as `inf` / `-inf`, booleans as `true` / `false`).
 /// Each row is written when its assembly is done, so a long episode can be followed as it runs.
 /// @throws as run_episode; Error when `out` fails.

@@ -117,6 +117,13 @@ struct ExperimentConfig {
   double divergence_threshold = 10.0;
   /// Stop an episode at its divergence (metrics then cover the steps up to it).
   bool stop_on_divergence = true;
+  /// An episode whose controller could not use its twin at this many assemblies in a row — each
+  /// proposal on the fallback or each measurement dropped (docs/controllers.md, failure
+  /// policies) — has lost its twin: it ends as a twin failure (TwinFailureError: not stored, and
+  /// a group whose twin fails two episodes in a row is given up), not as a result made without
+  /// the twin. A twin that fails now and then costs those assemblies only, and they are counted
+  /// (EpisodeResult::fallbacks, dropped_measurements).
+  Index twin_failure_streak = 5;
 
   /// "<case>/<locators>" unless `name` is set.
   [[nodiscard]] std::string group_name() const;

@@ -4,8 +4,9 @@
 /// episodes' mean relative residual and mean estimation error (over the runs that did not
 /// diverge, as the paper's box plots), the number of divergences, the number of lost runs
 /// (assess_lost, episode_result.hpp: worse than the baseline over the second half; a run may be
-/// both diverged and lost), and the mean wall time and Q-evaluations per assembly (over all
-/// runs).
+/// both diverged and lost), the assemblies that fell back to the default control (a twin
+/// error, a model that could not be fitted) and those whose measurement was dropped (the twin
+/// failed in the update), and the mean wall time and Q-evaluations per assembly (over all runs).
 
 #include <optional>
 #include <string>
@@ -25,6 +26,12 @@ struct SummaryRow {
   /// Runs recorded as lost; empty when a run's record predates the rule (no "lost" field), as
   /// a count over the others would pass for a count over all.
   std::optional<Index> lost = 0;
+  /// Assemblies, over all runs, whose proposal fell back to the controller's default control
+  /// (EpisodeResult::fallbacks); empty when a run's record predates the count.
+  std::optional<Index> fallbacks = 0;
+  /// Assemblies, over all runs, whose measurement was dropped (EpisodeResult::
+  /// dropped_measurements); empty when a run's record predates the count.
+  std::optional<Index> dropped_measurements = 0;
   double median_relative_residual = 0.0;  ///< NaN when every run diverged
   double median_estimation_error = 0.0;   ///< NaN when every run diverged
   double seconds_per_assembly = 0.0;

@@ -140,7 +140,8 @@ struct ActiveOptions {
   /// How the twin's local quadratic model is fitted and checked.
   QuadraticSurrogateOptions surrogate{};
   /// Assemblies updated with sigma points after the model failed its check, before trying again
-  /// (only with weigh_model_error = false, or when fitting the model fails outright).
+  /// (only with weigh_model_error = false, or when fitting the model fails outright; after a
+  /// twin's failure, a TwinError, the model is tried again at the next assembly).
   Index quadratic_retry = 25;
   /// A twin whose local model fails its check (Q² is not a quadratic there: contact, stiffening,
   /// kinks) is still estimated with the model, each assembly's residual given the variance
