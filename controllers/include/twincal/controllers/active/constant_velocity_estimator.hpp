@@ -479,14 +479,19 @@ class ConstantVelocityEstimator {
   }
 
   // The innovations' change test (ConstantVelocityOptions::innovation_window): each of the last
-  // innovation_window normalized innovations beyond 1 and their mean beyond change_gate² in the
-  // gate's unit (at least 1), once max(innovation_window, 2d) have joined since the last restart.
+  // innovation_window normalized innovations beyond 1 and their mean beyond change_gate² in
+  // their own unit (at least 1), once max(innovation_window, 2d) have joined since the last
+  // restart. Where models err that unit is misfit_scale() itself, not the gate's capped one:
+  // innovations are judged against what innovations run at (on a noisy plant with erring models
+  // ν²/S ran at 20–60 while the gate's unit stopped at max_misfit_scale, and the test restarted
+  // fits that were right).
   [[nodiscard]] bool innovations_beyond_gate() const noexcept {
     if (options_.innovation_window <= 0) return false;
     const auto needed =
         static_cast<std::size_t>(std::max(options_.innovation_window, 2 * dimension()));
+    const double unit = recent_models_err() ? misfit_scale() : gate_unit();
     return recent_innovations_.beyond(
-        needed, options_.change_gate * options_.change_gate * std::max(1.0, gate_unit()));
+        needed, options_.change_gate * options_.change_gate * std::max(1.0, unit));
   }
 
   // A change of velocity declared at `time`: restarts (restart_at_change()) and solves from
