@@ -66,19 +66,14 @@ void require_keys(const json& request, std::string_view op,
 // recorded run had it cached), and its fallback a reason (a twin error need not recur in a
 // replay; the recomputed control is compared on its own); the row's checksum covers both.
 bool same_report(const json& recomputed, const json& recorded) {
-  if (!recomputed.is_object() || !recorded.is_object()) return recomputed == recorded;
-  const auto is_compared = [](const std::string& key) {
-    return key != "twin_evaluations" && key != "fallback";
+  const auto compared = [](json report) {
+    if (report.is_object()) {
+      report.erase("twin_evaluations");
+      report.erase("fallback");
+    }
+    return report;
   };
-  Index compared = 0;
-  for (const auto& [key, value] : recomputed.items()) {
-    if (!is_compared(key)) continue;
-    const auto it = recorded.find(key);
-    if (it == recorded.end() || *it != value) return false;
-    ++compared;
-  }
-  for (const auto& [key, value] : recorded.items()) compared -= is_compared(key) ? 1 : 0;
-  return compared == 0;
+  return compared(recomputed) == compared(recorded);
 }
 
 ExperimentConfig settings_config(const json& settings) {

@@ -20,6 +20,7 @@
 
 #include "twincal/controllers/active/active_step_report.hpp"
 #include "twincal/controllers/controller.hpp"
+#include "twincal/controllers/proposal_report.hpp"
 #include "twincal/core/eigen.hpp"
 #include "twincal/models/assembly_id.hpp"
 
@@ -63,12 +64,16 @@ class AnyController {
   /// Why the last proposal fell back to the controller's default control
   /// (ProposalReport::fallback: a twin error, a model that could not be fitted); empty when it
   /// did not, or the controller has no fallback. The view is valid until the next propose.
-  [[nodiscard]] std::string_view fallback() const noexcept { return model_->fallback(); }
+  [[nodiscard]] std::string_view fallback() const noexcept {
+    const ProposalReport* report = model_->last_proposal();
+    return report != nullptr ? std::string_view(report->fallback) : std::string_view();
+  }
   /// Why the last observe dropped its measurement, the estimate staying as predicted
   /// (ProposalReport::dropped_measurement: the twin failed at the update's sigma points); empty
   /// when it did not. Valid until the next propose.
   [[nodiscard]] std::string_view dropped_measurement() const noexcept {
-    return model_->dropped_measurement();
+    const ProposalReport* report = model_->last_proposal();
+    return report != nullptr ? std::string_view(report->dropped_measurement) : std::string_view();
   }
 
   /// The wrapped controller's snapshot (SnapshotController, controllers' controller.hpp): what
@@ -92,8 +97,8 @@ class AnyController {
     virtual void offset_covariance(Eigen::Ref<MatrixX>) const = 0;
     [[nodiscard]] virtual double covariance_trace() const = 0;
     [[nodiscard]] virtual nlohmann::json step_report() const = 0;
-    [[nodiscard]] virtual std::string_view fallback() const noexcept = 0;
-    [[nodiscard]] virtual std::string_view dropped_measurement() const noexcept = 0;
+    // The wrapped controller's ProposalReport, or nullptr for one that keeps none.
+    [[nodiscard]] virtual const ProposalReport* last_proposal() const noexcept = 0;
     [[nodiscard]] virtual nlohmann::json save() const = 0;
     virtual void restore(const nlohmann::json&) = 0;
     Index dimension;
@@ -141,18 +146,13 @@ class AnyController {
         return nlohmann::json::object();
       }
     }
-    [[nodiscard]] std::string_view fallback() const noexcept override {
-      if constexpr (requires(const C& c) { c.last_proposal().fallback; }) {
-        return controller.last_proposal().fallback;
+    [[nodiscard]] const ProposalReport* last_proposal() const noexcept override {
+      if constexpr (requires(const C& c) {
+                      { c.last_proposal() } -> std::convertible_to<const ProposalReport&>;
+                    }) {
+        return &controller.last_proposal();
       } else {
-        return {};
-      }
-    }
-    [[nodiscard]] std::string_view dropped_measurement() const noexcept override {
-      if constexpr (requires(const C& c) { c.last_proposal().dropped_measurement; }) {
-        return controller.last_proposal().dropped_measurement;
-      } else {
-        return {};
+        return nullptr;
       }
     }
     [[nodiscard]] nlohmann::json save() const override { return controller.save(); }
