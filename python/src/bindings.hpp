@@ -9,6 +9,9 @@ namespace twincal::python {
 
 /// twincal.Error and its subclasses, and the translator from the C++ error types (errors.cpp).
 void bind_errors(pybind11::module_& module);
+/// twincal.TwinError's class (nullptr before bind_errors): a twin written in Python raises it for
+/// a failure the controllers' failure policy handles (python_twin.cpp).
+PyObject* twin_error_type() noexcept;
 /// The sigma-point schemes, with filterpy's names and methods (schemes.cpp).
 void bind_schemes(pybind11::module_& module);
 /// SigmaPointKalmanFilter and SquareRootKalmanFilter over a Python measurement function

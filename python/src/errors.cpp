@@ -24,7 +24,12 @@ PyObject* add_exception(py::module_& module, const char* name, const py::tuple& 
   return type;
 }
 
+// twincal.TwinError, once bind_errors made it (the module owns it for as long as it lives).
+PyObject* twin_error = nullptr;
+
 }  // namespace
+
+PyObject* twin_error_type() noexcept { return twin_error; }
 
 void bind_errors(py::module_& module) {
   // Types live as long as the module: plain pointers are enough for the translator.
@@ -49,6 +54,13 @@ void bind_errors(py::module_& module) {
       py::make_tuple(py::handle(error), py::handle(PyExc_ArithmeticError)),
       "A NaN or infinity where only finite numbers are allowed (input, model output, filter "
       "state). Also an ArithmeticError.");
+  twin_error = add_exception(
+      module, "TwinError", py::make_tuple(py::handle(error)),
+      "A twin could not answer at the controls it was asked (its solver did not converge, its "
+      "program failed). Raised by a twin written in Python, it is a twin failure to the "
+      "controllers: a proposal falls back to the default control, a measurement the estimate "
+      "cannot be updated with is dropped, and last_proposal says why; any other exception a "
+      "twin raises stops the controller.");
   not_positive_definite = add_exception(
       module, "NotPositiveDefiniteError",
       py::make_tuple(py::handle(error), py::handle(PyExc_ArithmeticError)),
@@ -56,7 +68,8 @@ void bind_errors(py::module_& module) {
       "an ArithmeticError.");
 
   // Most derived first. A Python exception raised in a callback (a measurement function, a
-  // twin) arrives as pybind11's error_already_set, which pybind11 itself restores unchanged.
+  // twin) arrives as pybind11's error_already_set, which pybind11 itself restores unchanged;
+  // PythonTwin turns a twincal.TwinError into the C++ TwinError, and this turns it back.
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
       if (thrown) std::rethrow_exception(thrown);
@@ -68,6 +81,8 @@ void bind_errors(py::module_& module) {
       PyErr_SetString(non_finite, e.what());
     } catch (const NotPositiveDefiniteError& e) {
       PyErr_SetString(not_positive_definite, e.what());
+    } catch (const TwinError& e) {
+      PyErr_SetString(twin_error, e.what());
     } catch (const Error& e) {
       PyErr_SetString(error, e.what());
     }

@@ -2,10 +2,12 @@
 #include "python_twin.hpp"
 
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 
+#include "bindings.hpp"
 #include "native_twin.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/validate.hpp"
@@ -40,12 +42,26 @@ bool has_method(const py::object& twin, const char* name) {
   return py::hasattr(twin, name) && PyCallable_Check(twin.attr(name).ptr()) != 0;
 }
 
+// twin.<method>(arguments…) (the GIL held). A twincal.TwinError the twin raises becomes the C++
+// TwinError, a failure the controllers' policies handle; any other exception propagates as
+// itself and stops the controller.
+template <typename... Arguments>
+py::object call_twin(const py::object& twin, const char* method, Arguments&&... arguments) {
+  try {
+    return twin.attr(method)(std::forward<Arguments>(arguments)...);
+  } catch (py::error_already_set& raised) {
+    if (!raised.matches(twin_error_type())) throw;
+    throw TwinError(fmt::format("twin.{}", method),
+                    fmt::format("twin.{} raised {}", method, raised.what()));
+  }
+}
+
 // twin.<method>(assembly, controls) with the controls as a d × k array (the GIL held).
 py::object call_batch(const py::object& twin, const char* method, PyObject* assembly,
                       const Eigen::Ref<const MatrixX>& controls) {
   py::array_t<double, py::array::f_style> batch({controls.rows(), controls.cols()});
   Eigen::Map<MatrixX>(batch.mutable_data(), controls.rows(), controls.cols()) = controls;
-  return twin.attr(method)(py::handle(assembly), std::move(batch));
+  return call_twin(twin, method, py::handle(assembly), std::move(batch));
 }
 
 // m of a twin with deviations_batch: its key_point_count (an int, or a method returning one).
@@ -196,7 +212,7 @@ VectorX PythonTwin::optimum(const Assembly& assembly) const {
   if (native_) return native_->optimum(assembly.native);
   if (!has_optimum_) return searched_optimum(assembly).control;
   py::gil_scoped_acquire gil;
-  const py::object result = twin_->attr("optimum")(py::handle(assembly.object));
+  const py::object result = call_twin(*twin_, "optimum", py::handle(assembly.object));
   const auto values =
       py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(result);
   if (!values || values.size() != control_dimension()) {
@@ -216,7 +232,7 @@ double PythonTwin::optimal_quality(const Assembly& assembly) const {
   if (!has_optimum_) return searched_optimum(assembly).quality;
   if (!has_optimal_quality_) return quality(assembly, optimum(assembly));
   py::gil_scoped_acquire gil;
-  const double z = py::float_(twin_->attr("optimal_quality")(py::handle(assembly.object)));
+  const double z = py::float_(call_twin(*twin_, "optimal_quality", py::handle(assembly.object)));
   require_finite("twin.optimal_quality", z);
   return z;
 }

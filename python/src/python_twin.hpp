@@ -24,6 +24,11 @@
 /// A `twincal.Twin` (native_twin.hpp) takes a fast path: the controller calls the compiled twin
 /// directly, without the GIL, and gets the same numbers as through Python.
 ///
+/// Failures: a twin that raises `twincal.TwinError` (its solver did not converge, a scan is
+/// unreadable) fails as a C++ TwinError, which the controllers' failure policies handle (a
+/// proposal on the default control, a dropped measurement; docs/controllers.md); any other
+/// exception propagates as itself and stops the controller.
+///
 /// Threads: the controllers run without the GIL; each call into a Python twin re-acquires it.
 
 #include <memory>
@@ -72,8 +77,9 @@ class PythonTwin {
   [[nodiscard]] const VectorX& upper_bounds() const noexcept { return upper_; }
   [[nodiscard]] double quality(const Assembly& assembly,
                                const Eigen::Ref<const VectorX>& control) const;
-  /// out(j) = twin.quality_batch(assembly, controls)[j]. A Python exception propagates as
-  /// itself. @throws DimensionMismatchError (controls' rows, out, the twin's answer's size).
+  /// out(j) = twin.quality_batch(assembly, controls)[j]. @throws TwinError for a
+  /// twincal.TwinError the twin raised (another Python exception propagates as itself);
+  /// DimensionMismatchError (controls' rows, out, the twin's answer's size).
   void quality_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,
                      Eigen::Ref<VectorX> out) const;
   /// twin.optimum(assembly), or NLopt's search when the twin has none (remembered until the
@@ -84,8 +90,8 @@ class PythonTwin {
   [[nodiscard]] bool has_optimum() const noexcept { return has_optimum_; }
   /// m, the key points of deviations_batch; 0 for a twin that answers only Q.
   [[nodiscard]] Index key_point_count() const noexcept { return key_points_; }
-  /// out.col(j) = twin.deviations_batch(assembly, controls)[:, j] (m × k). A Python exception
-  /// propagates as itself.
+  /// out.col(j) = twin.deviations_batch(assembly, controls)[:, j] (m × k). Failures as
+  /// quality_batch's.
   /// @throws InvalidArgumentError (field "deviations") for a twin that answers only Q;
   ///         DimensionMismatchError (controls, out, the twin's answer's shape).
   void deviations_batch(const Assembly& assembly, const Eigen::Ref<const MatrixX>& controls,

@@ -100,6 +100,39 @@ def test_a_twin_error_propagates_as_itself():
     np.testing.assert_array_equal(controller.offset_estimate, before)
 
 
+class FailingOnAssembly3(QuadraticTwin):
+    """The reference twin whose solver does not converge on assembly 3."""
+
+    def quality_batch(self, assembly, controls):
+        if assembly == 3:
+            raise twincal.TwinError("the solver did not converge on assembly 3")
+        return super().quality_batch(assembly, controls)
+
+
+@pytest.mark.parametrize("make", [twincal.DefaultController, twincal.PaperController,
+                                  twincal.ActiveController])
+def test_a_twin_error_a_python_twin_raises_is_a_twin_failure_the_controller_goes_on_after(make):
+    twin = FailingOnAssembly3(2)
+    plant = QuadraticTwin(2)
+    controller = make(twin)
+    for x in (0, 1, 3, 2):
+        u = controller.propose(x)
+        if x == 3 and make is not twincal.DefaultController:
+            # The default controller's proposal is u0 + δû: it asks the twin nothing.
+            assert "the solver did not converge on assembly 3" in (
+                controller.last_proposal["fallback"])
+        before = controller.offset_estimate.copy()
+        controller.observe(x, u, float(plant.quality_batch(x, u[:, None])[0]))
+        dropped = controller.last_proposal["dropped_measurement"]
+        if x == 3:
+            assert "twin.quality_batch raised" in dropped and "assembly 3" in dropped, dropped
+            if make is twincal.DefaultController:  # its prediction is a random walk's: δû stays
+                np.testing.assert_array_equal(controller.offset_estimate, before)
+        else:
+            assert dropped == "", dropped
+    assert controller.last_proposal["fallback"] == ""
+
+
 def test_bad_twins_and_measurements_raise_typed_errors():
     class NoQuality:
         lower_bounds = [-1.0]

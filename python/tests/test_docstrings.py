@@ -31,6 +31,7 @@ def test_error_hierarchy():
     assert issubclass(twincal.DimensionMismatchError, twincal.InvalidArgumentError)
     assert issubclass(twincal.NonFiniteError, ArithmeticError)
     assert issubclass(twincal.NotPositiveDefiniteError, ArithmeticError)
+    assert not issubclass(twincal.TwinError, (ValueError, ArithmeticError))
     for error in (twincal.InvalidArgumentError, twincal.NonFiniteError,
-                  twincal.NotPositiveDefiniteError):
+                  twincal.NotPositiveDefiniteError, twincal.TwinError):
         assert issubclass(error, twincal.Error)

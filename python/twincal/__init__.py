@@ -17,7 +17,9 @@ extension); the names follow filterpy and ``scipy.stats.qmc`` so existing code r
 
 Errors raise twincal.Error subclasses (InvalidArgumentError and DimensionMismatchError are
 ValueErrors; NonFiniteError and NotPositiveDefiniteError are ArithmeticErrors) with the C++
-message, which names the argument, its value and the rule; the filter is then unchanged.
+message, which names the argument, its value and the rule; the filter is then unchanged. A twin
+written in Python raises TwinError for a failure the controllers go on after (a proposal on the
+default control, a dropped measurement).
 """
 
 from ._twincal import (
@@ -40,6 +42,7 @@ from ._twincal import (
     SphericalRadialSigmaPoints,
     SquareRootKalmanFilter,
     Twin,
+    TwinError,
 )
 from .qmc import Halton, Sobol
 
@@ -119,6 +122,7 @@ __all__ = [
     "SphericalRadialSigmaPoints",
     "SquareRootKalmanFilter",
     "Twin",
+    "TwinError",
     "UnscentedKalmanFilter",
     "run_experiment",
 ]
