@@ -484,12 +484,15 @@ class ConstantVelocityEstimator {
   // restart. Where models err that unit is misfit_scale() itself, not the gate's capped one:
   // innovations are judged against what innovations run at (on a noisy plant with erring models
   // ν²/S ran at 20–60 while the gate's unit stopped at max_misfit_scale, and the test restarted
-  // fits that were right).
+  // fits that were right). Until that scale is known (half its window in) the test waits: the
+  // innovations have no unit to be judged in yet.
   [[nodiscard]] bool innovations_beyond_gate() const noexcept {
     if (options_.innovation_window <= 0) return false;
+    const bool models_err = recent_models_err();
+    if (models_err && !model_misfit_.known()) return false;
     const auto needed =
         static_cast<std::size_t>(std::max(options_.innovation_window, 2 * dimension()));
-    const double unit = recent_models_err() ? misfit_scale() : gate_unit();
+    const double unit = models_err ? misfit_scale() : gate_unit();
     return recent_innovations_.beyond(
         needed, options_.change_gate * options_.change_gate * std::max(1.0, unit));
   }
@@ -730,6 +733,8 @@ class ConstantVelocityEstimator {
     [[nodiscard]] double scale() const noexcept { return scale_; }
     /// The median over χ²(1)'s, not floored at 1 (1 until half of n are in).
     [[nodiscard]] double unfloored() const noexcept { return unfloored_; }
+    /// Whether half of n are in: the scale is the entries' median, not the 1 it starts at.
+    [[nodiscard]] bool known() const noexcept { return is_known(std::min(ring_.size(), count_)); }
 
     // The entries of the ring that are in (the first min(n, count) slots), the count and the
     // scale; the sorted copy is a workspace.
@@ -751,8 +756,11 @@ class ConstantVelocityEstimator {
 
    private:
     // The median of the first `kept` entries over χ²(1)'s; 1 until half of n are in.
+    [[nodiscard]] bool is_known(std::size_t kept) const noexcept {
+      return kept >= ring_.size() / 2 + 1;
+    }
     [[nodiscard]] double median_scale(std::size_t kept) {
-      if (kept < ring_.size() / 2 + 1) return 1.0;
+      if (!is_known(kept)) return 1.0;
       return median_of_first(ring_, kept, sorted_) / chi2_median;
     }
 

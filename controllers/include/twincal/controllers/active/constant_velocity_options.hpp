@@ -52,7 +52,8 @@ struct ConstantVelocityOptions {
   /// innovations, each z against the prediction made before it joined the fit: a change is
   /// declared when each of the last `innovation_window` normalized innovations ν²/S exceeds 1
   /// and their mean exceeds change_gate² in their own unit (at least 1: where recent models err
-  /// the misfit scale, uncapped by max_misfit_scale; elsewhere gate_unit()), once at
+  /// the misfit scale, uncapped by max_misfit_scale, and no test until that scale is known;
+  /// elsewhere gate_unit()), once at
   /// least max(innovation_window, 2d) innovations have joined since the fit last restarted. The
   /// fit's own residuals, which the gate reads, miss a turn of the drift that its 2d unknowns can
   /// bend to: traced on a twin with closing gaps at d = 12, innovations at 5–40 times their
