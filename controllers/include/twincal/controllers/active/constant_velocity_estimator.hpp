@@ -755,10 +755,11 @@ class ConstantVelocityEstimator {
     }
 
    private:
-    // The median of the first `kept` entries over χ²(1)'s; 1 until half of n are in.
+    // Whether `kept` entries are half of n: from then on the scale is their median.
     [[nodiscard]] bool is_known(std::size_t kept) const noexcept {
       return kept >= ring_.size() / 2 + 1;
     }
+    // The median of the first `kept` entries over χ²(1)'s; 1 until half of n are in.
     [[nodiscard]] double median_scale(std::size_t kept) {
       if (!is_known(kept)) return 1.0;
       return median_of_first(ring_, kept, sorted_) / chi2_median;
