@@ -102,6 +102,8 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
        [](auto& o) { return o.trajectory.change_velocity_spread == 3.0; }},
       {"trajectory.change_velocity_floor_fraction", 1e-3,
        [](auto& o) { return o.trajectory.change_velocity_floor_fraction == 1e-3; }},
+      {"trajectory.change_position_floor_fraction", 0.0,
+       [](auto& o) { return o.trajectory.change_position_floor_fraction == 0.0; }},
       {"trajectory.significance", 2.0, [](auto& o) { return o.trajectory.significance == 2.0; }},
       {"trajectory.max_history", 64, [](auto& o) { return o.trajectory.max_history == 64; }},
       {"trajectory.max_iterations", 30, [](auto& o) { return o.trajectory.max_iterations == 30; }},

@@ -54,7 +54,7 @@ constexpr std::array<OptionField<ActiveOptions>, 28> active_fields{{
     {"change_test_after_refit", &ActiveOptions::change_test_after_refit},
 }};
 
-constexpr std::array<OptionField<ConstantVelocityOptions>, 19> trajectory_fields{{
+constexpr std::array<OptionField<ConstantVelocityOptions>, 20> trajectory_fields{{
     {"initial_position_fraction", &ConstantVelocityOptions::initial_position_fraction},
     {"position_fraction", &ConstantVelocityOptions::position_fraction},
     {"max_position_fraction", &ConstantVelocityOptions::max_position_fraction},
@@ -70,6 +70,7 @@ constexpr std::array<OptionField<ConstantVelocityOptions>, 19> trajectory_fields
     {"change_position_spread", &ConstantVelocityOptions::change_position_spread},
     {"change_velocity_spread", &ConstantVelocityOptions::change_velocity_spread},
     {"change_velocity_floor_fraction", &ConstantVelocityOptions::change_velocity_floor_fraction},
+    {"change_position_floor_fraction", &ConstantVelocityOptions::change_position_floor_fraction},
     {"significance", &ConstantVelocityOptions::significance},
     {"max_history", &ConstantVelocityOptions::max_history},
     {"max_iterations", &ConstantVelocityOptions::max_iterations},

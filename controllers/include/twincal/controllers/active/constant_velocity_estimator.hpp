@@ -508,7 +508,8 @@ class ConstantVelocityEstimator {
   }
 
   // A change of velocity: the prior becomes the estimate of change_lag assemblies ago, widened
-  // along its velocity's line, and the history keeps the assemblies measured since.
+  // along its velocity's line and by the position floor, and the history keeps the assemblies
+  // measured since.
   void restart_at_change(Index time) {
     const Index d = dimension();
     const Index slots = snapshot_slots();
@@ -532,6 +533,8 @@ class ConstantVelocityEstimator {
         options_.change_velocity_spread * work_.velocity * work_.velocity.transpose();
     prior_.covariance.diagonal().tail(d) +=
         (options_.change_velocity_floor_fraction * width_).array().square().matrix();
+    prior_.covariance.diagonal().head(d) +=
+        (options_.change_position_floor_fraction * width_).array().square().matrix();
     prior_.time = restart_time;
     recent_innovations_.clear();  // they are what the restart answers
     while (history_.size > 0 && time_of(0) < restart_time) {

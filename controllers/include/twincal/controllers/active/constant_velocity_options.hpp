@@ -125,6 +125,18 @@ struct ConstantVelocityOptions {
   /// (never used in the choice) 7 → 0 lost, 7.95 → 7.90. 5e-3: 1 lost, 8.86 on the development
   /// cells (docs/reproduction.md, "The restart's velocity across the old line").
   double change_velocity_floor_fraction = 2e-3;
+  /// At a change the restart prior also widens each locator's offset by
+  /// (change_position_floor_fraction · width)². The old fit's covariance can be far tighter than
+  /// what the assemblies since the change say: traced on a cubic black box at d = 3, a restart
+  /// landed 0.6–1.0 mm from the offset with standard deviations of 0.003–0.04 mm, the
+  /// innovations ran at 10²–10⁵ times their variance for the rest of the run, and the estimate
+  /// never came back. 0.05 rather than 0 (chosen on the user's ten shapes at d = 3, answering
+  /// only Q, ten development pairs: 11.05 (7 lost) → 10.77 (2); 0.02 10.94 (3), 0.1 10.96 (3),
+  /// 0.15 11.02 (3)); after the choice, on pairs never used to choose, d = 3 3.18 (3) → 3.20
+  /// (0), d = 12 4.54 (4) → 4.32 (0); the analytic family answering only Q, 96 cells, 14.88 (5)
+  /// → 14.50 (4); every quadratic twin's target still met, each group a little better
+  /// (docs/reproduction.md, "The restart's spread"). 0: off.
+  double change_position_floor_fraction = 0.05;
   /// The offset is significant when its fit beats δu = 0 by more than the χ²(2d) mean plus
   /// `significance` standard deviations of the normalized data cost (a twin whose quality hardly
   /// depends on the offset, e.g. the door, never gets there, and is then not corrected).
@@ -155,6 +167,8 @@ struct ConstantVelocityOptions {
          rule::non_negative_finite("change_position_spread", change_position_spread),
          rule::non_negative_finite("change_velocity_spread", change_velocity_spread),
          rule::positive_finite("change_velocity_floor_fraction", change_velocity_floor_fraction),
+         rule::non_negative_finite("change_position_floor_fraction",
+                                   change_position_floor_fraction),
          rule::non_negative_finite("significance", significance),
          rule::check(misfit_window == 0 || misfit_window >= 3, "misfit_window", misfit_window,
                      "0 (the gate in units of σz alone) or >= 3"),
