@@ -525,8 +525,8 @@ double error_after_a_turn_across_the_line(double floor, Index turn, double acros
 }
 
 // The restart prior's position floor (ConstantVelocityOptions::change_position_floor_fraction):
-// the turn of error_after_a_turn_across_the_line's drift, the first change declared after it with
-// the floor off and at its default, the same data up to there. The floor gives each locator's
+// a noise-free drift at d = 3 that turns straight back at assembly 25, and the first change
+// declared after the turn with the floor off and at its default. The floor gives each locator's
 // offset back some of the spread the old fit had taken from it, so the fit after the restart is
 // less sure of every locator than the fit without it, and both end up placing the offset.
 TEST(ConstantVelocityEstimator, RestartGivesThePositionSpreadBack) {
