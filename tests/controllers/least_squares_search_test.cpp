@@ -83,17 +83,64 @@ TEST(LeastSquaresSearch, AsksForEachJacobianInOneBatchAndEachStepAlone) {
 TEST(LeastSquaresSearch, NeverSpendsMoreThanItsBudget) {
   const Index d = 3;
   const Affine problem(12, d, 5);
-  for (const std::uint64_t budget : {1U, 2U, 4U, 5U, 6U, 9U, 17U, 50U}) {
-    std::vector<Index> batches;
-    const LeastSquaresSearchResult result =
-        problem.search({.evaluations = budget}, 1.0, 6, batches);
-    EXPECT_LE(static_cast<std::uint64_t>(total(batches)), budget);
-    EXPECT_EQ(static_cast<std::uint64_t>(total(batches)), result.evaluations);
-    EXPECT_LE(result.minimum, problem.quality(VectorX::Zero(d)));
-    if (budget >= 5) {  // a start, a Jacobian and a step: restarts spend the rest
-      EXPECT_GE(result.evaluations + d + 1, budget) << "budget " << budget;
+  for (const bool speculative : {false, true}) {
+    for (const std::uint64_t budget : {1U, 2U, 4U, 5U, 6U, 9U, 17U, 50U}) {
+      std::vector<Index> batches;
+      const LeastSquaresSearchResult result = problem.search(
+          {.evaluations = budget, .speculative_jacobian = speculative}, 1.0, 6, batches);
+      SCOPED_TRACE(::testing::Message() << "budget " << budget << ", speculative " << speculative
+                                        << ": " << result.summary());
+      EXPECT_LE(static_cast<std::uint64_t>(total(batches)), budget);
+      EXPECT_EQ(static_cast<std::uint64_t>(total(batches)), result.evaluations);
+      EXPECT_LE(result.minimum, problem.quality(VectorX::Zero(d)));
+      if (budget >= 5) {  // a start, a Jacobian and a step: restarts spend the rest
+        EXPECT_GE(result.evaluations + d + 1, budget);
+      }
     }
   }
+}
+
+// speculative_jacobian: a start and each trial step come with the Jacobian's stencil at their
+// point in one request, so the search asks for the same minimum in fewer requests.
+TEST(LeastSquaresSearch, ASpeculativeJacobianComesWithItsPointInOneRequest) {
+  const Index d = 5;
+  const Affine problem(30, d, 1);
+  const double half_width = 10.0;
+  const double step = 0.01 * 2.0 * half_width;  // difference_step of the box's width
+  std::vector<Index> sizes;
+  Index stencils = 0;
+  const VectorX upper = VectorX::Constant(d, half_width);
+  const VectorX lower = -upper;
+  const DeviationObjective affine = problem.objective(lower, upper, sizes);
+  const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& points,
+                                           Eigen::Ref<MatrixX> deviations) {
+    if (points.cols() == d + 1) {  // the point, then its forward differences towards the inside
+      ++stencils;
+      for (Index i = 0; i < d; ++i) {
+        VectorX moved = points.col(i + 1) - points.col(0);
+        EXPECT_NEAR(std::abs(moved(i)), step, 1e-12) << "locator " << i;
+        moved(i) = 0.0;
+        EXPECT_EQ(moved.norm(), 0.0) << "locator " << i;
+      }
+    }
+    affine(points, deviations);
+  };
+  const LeastSquaresSearchOptions options{
+      .evaluations = 200, .restart_spread = 0.0, .speculative_jacobian = true};
+  const LeastSquaresSearchResult result = LeastSquaresSearch(options).minimize(
+      objective, 30, VectorX::Zero(d), lower, upper, RandomStream(2));
+  EXPECT_LT((result.argmin - problem.argmin()).norm(), 1e-7) << result.summary();
+  EXPECT_EQ(result.status, LeastSquaresStatus::converged);
+  EXPECT_EQ(static_cast<Index>(sizes.size()), result.batches);
+  EXPECT_EQ(static_cast<std::uint64_t>(total(sizes)), result.evaluations);
+  EXPECT_EQ(stencils, result.batches) << "every request a point with its stencil";
+  EXPECT_GE(stencils, result.jacobians);
+
+  std::vector<Index> plain_sizes;
+  const LeastSquaresSearchResult plain =
+      problem.search({.evaluations = 200, .restart_spread = 0.0}, half_width, 2, plain_sizes);
+  EXPECT_LT(result.batches, plain.batches) << result.summary() << "; " << plain.summary();
+  EXPECT_NEAR(result.minimum, plain.minimum, 1e-12);
 }
 
 TEST(LeastSquaresSearch, StopsAtTheBoxWhereTheMinimumLiesOutsideIt) {

@@ -285,11 +285,43 @@ TEST(ExternalCaseTwin, TrustRegionSearchFindsTheOptimumInBatches) {
   EXPECT_EQ(alone.search_requests(), alone_on_one.search_requests());
   settings.optimum_method = "powell";
   EXPECT_THAT(settings.validate().value_or(""),
-              HasSubstr("optimum_method: value is powell; rule: must be bobyqa, trust_region or "
-                        "least_squares"));
+              HasSubstr("optimum_method: value is powell; rule: must be bobyqa, trust_region, "
+                        "least_squares or least_squares_speculative"));
   nlohmann::json json = settings;
   json["optimum_method"] = "trust_region";
   EXPECT_EQ(json.get<ExternalTwinSettings>().optimum_method, "trust_region");
+}
+
+// The minimal twin on one worker with its 4 key points' deviations, u0 searched by least squares
+// within a budget of 32 (64 for the first row and column).
+ExternalTwinSettings least_squares_twin() {
+  ExternalTwinSettings settings = minimal_twin(1);
+  settings.optimum_budget = 32;
+  settings.optimum_method = "least_squares";
+  settings.key_points = 4;
+  return settings;
+}
+
+// optimum_method "least_squares_speculative": each start and step comes with its Jacobian's
+// stencil, d + 1 controls in one request, so the same optima in fewer requests; like
+// least_squares it needs the deviations, and the restarts' seed identifies its results.
+TEST(ExternalCaseTwin, SpeculativeLeastSquaresSearchFindsTheOptimaInFewerRequests) {
+  ExternalTwinSettings settings = least_squares_twin();
+  const ExternalCaseTwin plain(settings);
+  settings.optimum_method = "least_squares_speculative";
+  const ExternalCaseTwin speculative(settings);
+  EXPECT_LT(speculative.search_requests(), plain.search_requests());
+  EXPECT_LE(speculative.search_evaluations(), 4U * 64U + 2U * 32U);
+  for (const AssemblyId& x : plain.assemblies()) {
+    EXPECT_NEAR(speculative.optimal_quality(x), plain.optimal_quality(x),
+                1e-9 * plain.optimal_quality(x))
+        << fmt::format("{}", x);
+  }
+  EXPECT_TRUE(result_defining_json(settings).contains("optimum_seed"));
+  settings.key_points = 0;
+  EXPECT_THAT(settings.validate().value_or(""),
+              HasSubstr("optimum_method: value is least_squares_speculative; rule: "
+                        "least_squares needs a program that answers its key points' deviations"));
 }
 
 // optimum_method "least_squares": the program's key points' deviations (the minimal twin
@@ -298,10 +330,7 @@ TEST(ExternalCaseTwin, TrustRegionSearchFindsTheOptimumInBatches) {
 // Same result for any number of workers, through the pool and on one worker, and the deviations
 // are the twin's too (TwinWithDeviations).
 TEST(ExternalCaseTwin, LeastSquaresSearchFindsTheOptimumFromTheProgramsDeviations) {
-  ExternalTwinSettings settings = minimal_twin(1);
-  settings.optimum_budget = 32;
-  settings.optimum_method = "least_squares";
-  settings.key_points = 4;
+  ExternalTwinSettings settings = least_squares_twin();
   const ExternalCaseTwin one(settings);
   settings.workers = 3;
   const ExternalCaseTwin three(settings);

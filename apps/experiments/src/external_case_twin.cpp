@@ -218,7 +218,7 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
     return batched(
         [&] { return search.minimize(objective, start, lower_bounds(), upper_bounds()); });
   }
-  if (budget_ > 0 && method_ == "least_squares") {
+  if (budget_ > 0 && least_squares_method(method_)) {
     const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
                                              Eigen::Ref<MatrixX> deviations) {
       if (whole_pool) {
@@ -228,7 +228,8 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
       }
     };
     const LeastSquaresSearch search(
-        LeastSquaresSearchOptions{.evaluations = static_cast<std::uint64_t>(local_evaluations)});
+        LeastSquaresSearchOptions{.evaluations = static_cast<std::uint64_t>(local_evaluations),
+                                  .speculative_jacobian = method_ == "least_squares_speculative"});
     return batched([&] {
       return search.minimize(objective, twin.key_point_count(), start, lower_bounds(),
                              upper_bounds(), RandomStream(seed_).substream(assembly.dump()));

@@ -57,17 +57,21 @@ std::optional<std::string> ExternalTwinSettings::validate() const {
            optimum_budget <= 0 || optimum_budget >= 2 * d + 2, "optimum_budget", optimum_budget,
            "0 or >= 2d + 2 = {} (BOBYQA's first model needs 2d + 1 evaluations)", 2 * d + 2),
        rule::check(optimum_method == "bobyqa" || optimum_method == "trust_region" ||
-                       optimum_method == "least_squares",
+                       least_squares_method(optimum_method),
                    "optimum_method", optimum_method,
-                   "must be bobyqa, trust_region or least_squares"),
+                   "must be bobyqa, trust_region, least_squares or least_squares_speculative"),
        rule::check(key_points >= 0 && key_points <= max_key_points, "key_points", key_points,
                    "must lie in [0, {}]", max_key_points),
-       rule::check(optimum_method != "least_squares" || key_points >= 1, "optimum_method",
+       rule::check(!least_squares_method(optimum_method) || key_points >= 1, "optimum_method",
                    optimum_method,
                    "least_squares needs a program that answers its key points' deviations "
                    "(key_points >= 1)"),
        rule::at_least("timeout_ms", timeout_ms, Index{1}),
        rule::at_least("startup_grace_ms", startup_grace_ms, Index{0})});
+}
+
+bool least_squares_method(const std::string& method) noexcept {
+  return method == "least_squares" || method == "least_squares_speculative";
 }
 
 void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {
@@ -97,7 +101,7 @@ nlohmann::json result_defining_json(const ExternalTwinSettings& settings) {
   json.erase("optima_file");
   // The deviations and the restarts' seed matter only to a least-squares u0 search (and
   // results stored before they existed stay the same group).
-  if (settings.optimum_method != "least_squares" || settings.optimum_budget == 0) {
+  if (!least_squares_method(settings.optimum_method) || settings.optimum_budget == 0) {
     json.erase("key_points");
     json.erase("optimum_seed");
   }

@@ -13,7 +13,9 @@
 // (controllers' TrustRegionSearch on Q², a batch per request) or least_squares (controllers'
 // LeastSquaresSearch on the key points' deviations, for the cases whose twin answers them: all
 // but the RMS-quadratic analytic, and an external program with key_points; its restarts draw from
-// RandomStream(SEED).substream("least_squares")). --list prints every assembly's result too.
+// RandomStream(SEED).substream("least_squares")), or least_squares_speculative (the same, each
+// start and step asked for with its Jacobian's stencil in one request). --list prints every
+// assembly's result too.
 // Prints the mean evaluations and requests (rounds of the twin's latency) per assembly, and for
 // trust_region and least_squares how the assemblies beyond 1 % ended (converged or out of
 // budget).
@@ -30,6 +32,7 @@
 #include "twincal/controllers/trust_region_search.hpp"
 #include "twincal/experiments/config_file.hpp"
 #include "twincal/experiments/experiment_choices.hpp"
+#include "twincal/experiments/external_twin_settings.hpp"
 #include "twincal/experiments/twin_cases.hpp"
 
 namespace {
@@ -69,8 +72,9 @@ void search_every_assembly(const AnyTwin& twin, const std::string& which, const 
       options.local_evaluations = allowed;
       found = IndividualOptimum<AnyTwin>(twin, NloptOptimizer(options)).optimize(assembly, start);
       requests += found.evaluations;
-    } else if (method == "least_squares") {
-      const LeastSquaresSearch search({.evaluations = allowed});
+    } else if (least_squares_method(method)) {
+      const LeastSquaresSearch search(
+          {.evaluations = allowed, .speculative_jacobian = method == "least_squares_speculative"});
       const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
                                                Eigen::Ref<MatrixX> deviations) {
         twin.deviations_batch(assembly, controls, deviations);
@@ -136,7 +140,7 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: twincal_budgeted_optimum CASE|CONFIG.json [D] [FACTOR] [SEED] "
-                 "[bobyqa|trust_region|least_squares] [--list]\n");
+                 "[bobyqa|trust_region|least_squares|least_squares_speculative] [--list]\n");
     return 2;
   }
   try {
@@ -164,14 +168,15 @@ int main(int argc, char** argv) {
     }
     const bool list = argc > 6 && std::string(argv[6]) == "--list";
     for (const std::string& method : methods) {
-      if (method != "bobyqa" && method != "trust_region" && method != "least_squares") {
+      if (method != "bobyqa" && method != "trust_region" && !least_squares_method(method)) {
         throw InvalidArgumentError("METHOD", "METHOD: value is '" + method +
-                                                 "'; rule: must be bobyqa, trust_region or "
-                                                 "least_squares (or a comma-separated list)");
+                                                 "'; rule: must be bobyqa, trust_region, "
+                                                 "least_squares or least_squares_speculative (or "
+                                                 "a comma-separated list)");
       }
     }
     const AnyTwin twin = make_twin(config);
-    if (std::ranges::count(methods, "least_squares") > 0 && twin.key_point_count() == 0) {
+    if (std::ranges::count_if(methods, least_squares_method) > 0 && twin.key_point_count() == 0) {
       throw InvalidArgumentError("CASE", "CASE: value is '" + which +
                                              "'; rule: least_squares needs a twin that answers "
                                              "its key points' deviations");

@@ -24,7 +24,10 @@
 /// (or until `agreeing_restarts` in a row have come back to the best minimum).
 /// The result is the best point evaluated.
 ///
-/// Evaluations: 1 per start, d per Jacobian, 1 per trial step. Non-finite deviations mark a
+/// Evaluations: 1 per start, d per Jacobian, 1 per trial step, each its own request. With
+/// `speculative_jacobian` a start and each trial step come with the Jacobian's stencil at their
+/// point in one request of d + 1: a step kept needs no request of its own for its Jacobian, a
+/// step rejected has spent d evaluations for nothing. Non-finite deviations mark a
 /// control the twin could not evaluate: a trial step there is rejected, a Jacobian with one ends
 /// that local search. Its workspace is allocated once per call to minimize; each step's
 /// bounded_least_squares allocates its own (one step per request to the twin).
@@ -77,6 +80,12 @@ struct LeastSquaresSearchOptions {
   /// A local search has converged once its step is below this fraction of the box's width on
   /// every locator.
   double final_step = 1e-8;
+  /// Ask for the Jacobian's stencil at a start or a trial step in the same request as the point
+  /// (d + 1 points): a third of the requests at a rejected step's cost of d evaluations. For a
+  /// twin whose requests cost more than their points (a pool of workers that evaluates a
+  /// request's points side by side); the budget then buys fewer local searches (docs/
+  /// benchmarks.md, "Budgeted u0").
+  bool speculative_jacobian = false;
   /// μ of each local search's first step (relative to diag(JᵀJ)).
   double initial_damping = 1e-3;
   /// A local search has stalled once μ exceeds this.
@@ -172,6 +181,8 @@ class LeastSquaresSearch {
     MatrixX stencil_deviations;  // m × d
     VectorX trial;
     MatrixX trial_deviations;  // m × 1
+    MatrixX joint;             // d × (d + 1): a point and its stencil (speculative_jacobian)
+    MatrixX joint_deviations;  // m × (d + 1)
     VectorX scale;             // diag(JᵀJ), floored
     MatrixX damped;            // [J; √μ diag(scale)^½]: the step's least-squares problem
     VectorX damped_residual;   // [r; 0]
@@ -198,6 +209,8 @@ class LeastSquaresSearch {
           stencil_deviations(m, l.size()),
           trial(l.size()),
           trial_deviations(m, 1),
+          joint(l.size(), o.speculative_jacobian ? l.size() + 1 : 0),
+          joint_deviations(m, o.speculative_jacobian ? l.size() + 1 : 0),
           scale(l.size()),
           damped(m + l.size(), l.size()),
           damped_residual(VectorX::Zero(m + l.size())),
@@ -215,13 +228,45 @@ class LeastSquaresSearch {
       objective(point, trial_deviations);
       ++result.batches;
       ++result.evaluations;
-      const double value = trial_deviations.squaredNorm();
-      if (!std::isfinite(value)) return std::numeric_limits<double>::infinity();
-      if (value < best_cost) {
-        best_cost = value;
-        best = point;
+      keep_best(Eigen::Map<const MatrixX>(point.data(), d, 1), trial_deviations);
+      return finite_cost(trial_deviations.col(0));
+    }
+
+    // Whether the point and its Jacobian's stencil go in one request (speculative_jacobian):
+    // while the budget holds them both.
+    [[nodiscard]] bool speculate() const {
+      return options.speculative_jacobian && remaining() >= dimension() + 1;
+    }
+
+    // evaluate() with the Jacobian's stencil at `point` in the same request: r into
+    // trial_deviations, the stencil's deviations into joint_deviations' last d columns for
+    // take_jacobian().
+    double evaluate_with_stencil(const VectorX& point) {
+      joint.col(0) = point;
+      place_stencil(point, joint.rightCols(d));
+      objective(joint, joint_deviations);
+      ++result.batches;
+      result.evaluations += dimension() + 1;
+      keep_best(joint, joint_deviations);
+      trial_deviations = joint_deviations.leftCols(1);
+      return finite_cost(trial_deviations.col(0));
+    }
+
+    [[nodiscard]] static double finite_cost(const Eigen::Ref<const VectorX>& deviations) {
+      const double value = deviations.squaredNorm();
+      return std::isfinite(value) ? value : std::numeric_limits<double>::infinity();
+    }
+
+    // The best of a request's points so far (non-finite deviations never are).
+    void keep_best(const Eigen::Ref<const MatrixX>& points,
+                   const Eigen::Ref<const MatrixX>& deviations) {
+      for (Index j = 0; j < points.cols(); ++j) {
+        const double value = deviations.col(j).squaredNorm();
+        if (std::isfinite(value) && value < best_cost) {
+          best_cost = value;
+          best = points.col(j);
+        }
       }
-      return value;
     }
 
     LeastSquaresSearchResult search(const VectorX& start, RandomStream& restarts) {
@@ -257,11 +302,15 @@ class LeastSquaresSearch {
     LeastSquaresStatus local_search(const VectorX& from) {
       ++result.local_searches;
       center = from;  // `from` may be `trial`, which evaluate() leaves alone
-      cost = evaluate(center);
+      const bool speculated = speculate();
+      cost = speculated ? evaluate_with_stencil(center) : evaluate(center);
       if (!std::isfinite(cost)) return LeastSquaresStatus::converged;  // nothing to descend from
       residual = trial_deviations.col(0);
+      if (speculated && !take_jacobian(joint_deviations.rightCols(d))) {
+        return LeastSquaresStatus::converged;
+      }
       double damping = options.initial_damping;
-      bool jacobian_current = false;
+      bool jacobian_current = speculated;
       while (true) {
         if (cost == 0.0) return LeastSquaresStatus::converged;
         if (!jacobian_current) {
@@ -284,14 +333,18 @@ class LeastSquaresSearch {
         trial = trial.cwiseMax(lower).cwiseMin(upper);  // round-off
         if (((trial - center).cwiseAbs().array() <= options.final_step * width.array()).all())
           return LeastSquaresStatus::converged;
-        const double value = evaluate(trial);
+        const bool speculative = speculate();
+        const double value = speculative ? evaluate_with_stencil(trial) : evaluate(trial);
         if (value < cost) {
           center = trial;
           cost = value;
           residual = trial_deviations.col(0);
           damping = std::max(damping / 3.0, 1e-12);
           ++result.accepted_steps;
-          jacobian_current = false;
+          jacobian_current = speculative;
+          if (speculative && !take_jacobian(joint_deviations.rightCols(d))) {
+            return LeastSquaresStatus::converged;
+          }
         } else {
           damping *= 4.0;
           if (damping > options.max_damping) return LeastSquaresStatus::converged;
@@ -302,23 +355,31 @@ class LeastSquaresSearch {
     // J by forward differences at the centre, each step towards the box's interior; one
     // request. False where a difference is not finite.
     bool differentiate() {
-      stencil.colwise() = center;
-      steps = options.difference_step * width;
-      for (Index i = 0; i < d; ++i) {
-        if (center(i) + steps(i) > upper(i)) steps(i) = -steps(i);
-        stencil(i, i) += steps(i);
-      }
+      place_stencil(center, stencil);
       objective(stencil, stencil_deviations);
       ++result.batches;
-      ++result.jacobians;
       result.evaluations += dimension();
+      keep_best(stencil, stencil_deviations);
+      return take_jacobian(stencil_deviations);
+    }
+
+    // The forward-difference points at `point` into `points` (d × d): each locator moved by
+    // difference_step of the box towards its interior (the signed differences into `steps`).
+    void place_stencil(const VectorX& point, Eigen::Ref<MatrixX> points) {
+      steps = options.difference_step * width;
       for (Index i = 0; i < d; ++i) {
-        const double value = stencil_deviations.col(i).squaredNorm();
-        if (std::isfinite(value) && value < best_cost) {
-          best_cost = value;
-          best = stencil.col(i);
-        }
-        jacobian.col(i) = (stencil_deviations.col(i) - residual) / steps(i);
+        if (point(i) + steps(i) > upper(i)) steps(i) = -steps(i);
+        points.col(i) = point;
+        points(i, i) += steps(i);
+      }
+    }
+
+    // J at the centre from its stencil's deviations (`residual` the centre's), and Marquardt's
+    // scale diag(JᵀJ). False where a difference is not finite.
+    bool take_jacobian(const Eigen::Ref<const MatrixX>& deviations) {
+      ++result.jacobians;
+      for (Index i = 0; i < d; ++i) {
+        jacobian.col(i) = (deviations.col(i) - residual) / steps(i);
       }
       if (!jacobian.allFinite()) return false;
       scale = jacobian.colwise().squaredNorm().transpose();

@@ -48,12 +48,14 @@ struct ExternalTwinSettings {
   Index optimum_budget = 0;
   /// How a budgeted search runs: "bobyqa" (NLopt's BOBYQA, one evaluation per request),
   /// "trust_region" (controllers' TrustRegionSearch on Q: 2d + 1 controls in its first request,
-  /// d + 1 in each later one) or "least_squares" (controllers' LeastSquaresSearch on the key
+  /// d + 1 in each later one), "least_squares" (controllers' LeastSquaresSearch on the key
   /// points' deviations, for a twin that answers them: `key_points` > 0; d controls per
-  /// Jacobian, one per step). Each assembly's requests go to one worker. The trust region waits
-  /// on the twin 10 to 25 times less often than BOBYQA and its batches can share a solver deck;
-  /// least squares crosses the kinks of contact that stall both (docs/benchmarks.md, "Budgeted
-  /// u0"). Unused when optimum_budget is 0.
+  /// Jacobian, one per step) or "least_squares_speculative" (the same search asking for each
+  /// start and step with the Jacobian's stencil there, d + 1 controls per request:
+  /// LeastSquaresSearchOptions::speculative_jacobian). Each assembly's requests go to one
+  /// worker. The trust region waits on the twin 10 to 25 times less often than BOBYQA and its
+  /// batches can share a solver deck; least squares crosses the kinks of contact that stall both
+  /// (docs/benchmarks.md, "Budgeted u0"). Unused when optimum_budget is 0.
   std::string optimum_method = "bobyqa";
   /// Seed of the least-squares search's restarts; assembly x draws from
   /// RandomStream(optimum_seed).substream(<x as the program receives it, compact JSON>), so a
@@ -75,6 +77,10 @@ struct ExternalTwinSettings {
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };
+
+/// Whether a budgeted u0 search with `method` runs controllers' LeastSquaresSearch (on the key
+/// points' deviations): "least_squares" and "least_squares_speculative".
+[[nodiscard]] bool least_squares_method(const std::string& method) noexcept;
 
 void to_json(nlohmann::json& json, const ExternalTwinSettings& settings);
 /// The settings as JSON without the fields that change no result: the pool's size and patience
