@@ -31,8 +31,10 @@ namespace {
 /// The search's settings, as the keywords of BudgetedOptimum spell them (resolved: a method
 /// and a budget chosen for the twin when not given).
 struct BudgetedOptimumSettings {
-  /// "least_squares" (the deviations; the default for a twin that answers them) or
-  /// "trust_region" (Q; the default otherwise).
+  /// "least_squares" (the deviations; the default for a twin that answers them),
+  /// "least_squares_speculative" (the same, each start and step asked for with its Jacobian's
+  /// stencil: LeastSquaresSearchOptions::speculative_jacobian) or "trust_region" (Q; the default
+  /// otherwise).
   std::string method;
   /// Twin evaluations per search; 2 (d + 1)² unless given, the budget docs/external.md
   /// recommends for the CLI's budgeted search.
@@ -43,9 +45,9 @@ struct BudgetedOptimumSettings {
 
   [[nodiscard]] std::optional<std::string> validate() const {
     return first_problem(
-        {rule::check(method == "least_squares" || method == "trust_region", "method", method,
-                     "must be least_squares or trust_region"),
-         rule::check(method != "least_squares" || key_points >= 1, "method", method,
+        {rule::check(least_squares_method(method) || method == "trust_region", "method", method,
+                     "must be least_squares, least_squares_speculative or trust_region"),
+         rule::check(!least_squares_method(method) || key_points >= 1, "method", method,
                      "least_squares needs a twin that answers its deviations (deviations_batch "
                      "and key_point_count)"),
          rule::at_least("budget", budget, Index{1})});
@@ -117,7 +119,7 @@ class BudgetedOptimum {
   [[nodiscard]] const SearchOutcome& last() const noexcept { return last_; }
 
  private:
-  // Runs `method` (least_squares or trust_region) from `start`; the GIL released.
+  // Runs `method` (least squares or trust_region) from `start`; the GIL released.
   [[nodiscard]] SearchOutcome run(const PythonAssembly& assembly, const VectorX& start) const {
     const auto budget = static_cast<std::uint64_t>(settings_.budget);
     const VectorX& lower = twin_->lower_bounds();
@@ -126,14 +128,16 @@ class BudgetedOptimum {
       return SearchOutcome{found.argmin, found.minimum, found.evaluations, found.batches,
                            std::string(to_string(found.status))};
     };
-    if (settings_.method == "least_squares") {
+    if (least_squares_method(settings_.method)) {
       const DeviationObjective deviations = [&](const Eigen::Ref<const MatrixX>& controls,
                                                 Eigen::Ref<MatrixX> out) {
         twin_->deviations_batch(assembly, controls, out);
       };
-      return outcome(LeastSquaresSearch({.evaluations = budget})
-                         .minimize(deviations, settings_.key_points, start, lower, upper,
-                                   RandomStream(settings_.seed)));
+      const LeastSquaresSearchOptions options{
+          .evaluations = budget,
+          .speculative_jacobian = settings_.method == "least_squares_speculative"};
+      return outcome(LeastSquaresSearch(options).minimize(
+          deviations, settings_.key_points, start, lower, upper, RandomStream(settings_.seed)));
     }
     const BatchObjective qualities = [&](const Eigen::Ref<const MatrixX>& controls,
                                          Eigen::Ref<VectorX> out) {

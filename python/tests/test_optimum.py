@@ -51,6 +51,18 @@ def test_least_squares_finds_the_optimum_of_an_affine_twin_within_its_budget():
     np.testing.assert_array_equal(last["control"], searched.optimum(4))
 
 
+def test_speculative_least_squares_finds_the_same_optima_in_fewer_requests():
+    reference = KeyPointRmsTwin(4)
+    plain_twin = Searchable(reference, deviations=True)
+    speculative_twin = Searchable(reference, deviations=True)
+    plain = twincal.BudgetedOptimum(plain_twin)
+    speculative = twincal.BudgetedOptimum(speculative_twin, method="least_squares_speculative")
+    for x in range(5):
+        np.testing.assert_allclose(speculative.optimum(x), plain.optimum(x), atol=1e-8)
+    assert speculative_twin.calls == speculative.requests < plain.requests
+    assert speculative_twin.controls == speculative.evaluations <= 5 * speculative.budget
+
+
 def test_the_trust_region_finds_the_optimum_of_a_twin_that_answers_only_q():
     reference = QuadraticRmsTwin(3)
     twin = Searchable(reference, deviations=False)
@@ -123,7 +135,8 @@ def test_the_compiled_twins_optima_are_found_from_their_deviations():
 
 
 @pytest.mark.parametrize("keywords, message", [
-    ({"method": "powell"}, "method: value is powell; rule: must be least_squares or trust_region"),
+    ({"method": "powell"}, "method: value is powell; rule: must be least_squares, "
+                           "least_squares_speculative or trust_region"),
     ({"method": "least_squares"}, "method: value is least_squares; rule: least_squares needs a "
                                   "twin that answers its deviations"),
     ({"budget": 0}, "budget: value is 0; rule: must be >= 1"),
