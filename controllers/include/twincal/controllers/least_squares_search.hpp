@@ -81,10 +81,11 @@ struct LeastSquaresSearchOptions {
   /// every locator.
   double final_step = 1e-8;
   /// Ask for the Jacobian's stencil at a start or a trial step in the same request as the point
-  /// (d + 1 points): a third of the requests at a rejected step's cost of d evaluations. For a
-  /// twin whose requests cost more than their points (a pool of workers that evaluates a
-  /// request's points side by side); the budget then buys fewer local searches (docs/
-  /// benchmarks.md, "Budgeted u0").
+  /// (d + 1 points): a half to a third of the requests, at d wasted evaluations per rejected
+  /// step. For a twin whose requests cost more than their points (a pool of workers that
+  /// evaluates a request's points side by side); the budget then buys fewer local searches and
+  /// finds z* within 1 % less often at d = 12 on contact and kinks (docs/benchmarks.md,
+  /// "Speculative Jacobians").
   bool speculative_jacobian = false;
   /// μ of each local search's first step (relative to diag(JᵀJ)).
   double initial_damping = 1e-3;
