@@ -133,11 +133,9 @@ class BudgetedOptimum {
                                                 Eigen::Ref<MatrixX> out) {
         twin_->deviations_batch(assembly, controls, out);
       };
-      const LeastSquaresSearchOptions options{
-          .evaluations = budget,
-          .speculative_jacobian = settings_.method == "least_squares_speculative"};
-      return outcome(LeastSquaresSearch(options).minimize(
-          deviations, settings_.key_points, start, lower, upper, RandomStream(settings_.seed)));
+      return outcome(LeastSquaresSearch(least_squares_options(settings_.method, budget))
+                         .minimize(deviations, settings_.key_points, start, lower, upper,
+                                   RandomStream(settings_.seed)));
     }
     const BatchObjective qualities = [&](const Eigen::Ref<const MatrixX>& controls,
                                          Eigen::Ref<VectorX> out) {

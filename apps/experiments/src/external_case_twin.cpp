@@ -228,8 +228,7 @@ ExternalCaseTwin::SearchCost ExternalCaseTwin::search(
       }
     };
     const LeastSquaresSearch search(
-        LeastSquaresSearchOptions{.evaluations = static_cast<std::uint64_t>(local_evaluations),
-                                  .speculative_jacobian = method_ == "least_squares_speculative"});
+        least_squares_options(method_, static_cast<std::uint64_t>(local_evaluations)));
     return batched([&] {
       return search.minimize(objective, twin.key_point_count(), start, lower_bounds(),
                              upper_bounds(), RandomStream(seed_).substream(assembly.dump()));

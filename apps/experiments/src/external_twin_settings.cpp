@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "twincal/controllers/least_squares_search.hpp"
 #include "twincal/core/error.hpp"
 #include "twincal/core/options.hpp"
 #include "twincal/experiments/strict_json.hpp"
@@ -72,6 +73,12 @@ std::optional<std::string> ExternalTwinSettings::validate() const {
 
 bool least_squares_method(const std::string& method) noexcept {
   return method == "least_squares" || method == "least_squares_speculative";
+}
+
+LeastSquaresSearchOptions least_squares_options(const std::string& method,
+                                                std::uint64_t evaluations) {
+  return {.evaluations = evaluations,
+          .speculative_jacobian = method == "least_squares_speculative"};
 }
 
 void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {

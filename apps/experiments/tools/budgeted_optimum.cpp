@@ -73,8 +73,7 @@ void search_every_assembly(const AnyTwin& twin, const std::string& which, const 
       found = IndividualOptimum<AnyTwin>(twin, NloptOptimizer(options)).optimize(assembly, start);
       requests += found.evaluations;
     } else if (least_squares_method(method)) {
-      const LeastSquaresSearch search(
-          {.evaluations = allowed, .speculative_jacobian = method == "least_squares_speculative"});
+      const LeastSquaresSearch search(least_squares_options(method, allowed));
       const DeviationObjective objective = [&](const Eigen::Ref<const MatrixX>& controls,
                                                Eigen::Ref<MatrixX> deviations) {
         twin.deviations_batch(assembly, controls, deviations);

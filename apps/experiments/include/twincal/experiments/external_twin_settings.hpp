@@ -25,6 +25,8 @@
 
 namespace twincal {
 
+struct LeastSquaresSearchOptions;  // controllers/least_squares_search.hpp
+
 struct ExternalTwinSettings {
   std::vector<std::string> command;   ///< argv; command[0] is looked up in PATH if bare
   std::vector<std::string> locators;  ///< the twin's d locator names, in its control order
@@ -81,6 +83,10 @@ struct ExternalTwinSettings {
 /// Whether a budgeted u0 search with `method` runs controllers' LeastSquaresSearch (on the key
 /// points' deviations): "least_squares" and "least_squares_speculative".
 [[nodiscard]] bool least_squares_method(const std::string& method) noexcept;
+/// The LeastSquaresSearch of a least-squares `method` within `evaluations`: speculative
+/// Jacobians for "least_squares_speculative", the defaults otherwise.
+[[nodiscard]] LeastSquaresSearchOptions least_squares_options(const std::string& method,
+                                                              std::uint64_t evaluations);
 
 void to_json(nlohmann::json& json, const ExternalTwinSettings& settings);
 /// The settings as JSON without the fields that change no result: the pool's size and patience
