@@ -324,6 +324,50 @@ TEST(ExternalCaseTwin, SpeculativeLeastSquaresSearchFindsTheOptimaInFewerRequest
                         "least_squares needs a program that answers its key points' deviations"));
 }
 
+// optimum_start_command: each assembly's budgeted search starts from the optimum a fast start
+// twin's full search found. Here the start twin is the same program, so its optimum is z*'s own
+// and a budget of 2d + 2 = 8 keeps it, pairs and scanned assemblies alike, where the same budget
+// from the centre and the additive warm start does not reach z*; the start twin's evaluations
+// are its own. It needs a budgeted search, and it identifies the results it starts.
+TEST(ExternalCaseTwin, StartsEachBudgetedSearchFromTheStartTwinsOptimum) {
+  ExternalTwinSettings settings = minimal_twin(2);
+  settings.optimum_budget = 8;
+  const ExternalCaseTwin unstarted(settings);
+  settings.optimum_start_command = settings.command;
+  const ExternalCaseTwin started(settings);
+  EXPECT_GT(started.start_search_evaluations(), 6U * 300U);
+  EXPECT_EQ(unstarted.start_search_evaluations(), 0U);
+  EXPECT_LE(started.search_evaluations(), 6U * 8U);
+  double unstarted_worst = 0.0;
+  for (const AssemblyId& x : started.assemblies()) {
+    const double z_star =
+        std::sqrt(0.04 + 0.01 * static_cast<double>((3 * x.upper + 5 * x.lower) % 7));
+    EXPECT_NEAR(started.optimal_quality(x), z_star, 1e-9 * z_star) << fmt::format("{}", x);
+    unstarted_worst = std::max(unstarted_worst, unstarted.optimal_quality(x) / z_star - 1.0);
+  }
+  EXPECT_GT(unstarted_worst, 1e-6);
+  const nlohmann::json parts = {{"upper", nlohmann::json::array({0.25, 0.5})},
+                                {"lower", nlohmann::json::array({1.5})}};
+  ExternalCaseTwin scanning(settings);
+  const std::uint64_t before = scanning.search_evaluations();
+  EXPECT_NEAR(scanning.optimal_quality(scanning.add_scanned(parts)), std::sqrt(0.04 + 0.01 * 2.75),
+              1e-9);
+  EXPECT_LE(scanning.search_evaluations() - before, 8U);
+  EXPECT_EQ(result_defining_json(settings)["optimum_start_command"], settings.command);
+  EXPECT_FALSE(result_defining_json(minimal_twin(2)).contains("optimum_start_command"));
+  const nlohmann::json json = settings;
+  EXPECT_EQ(json.get<ExternalTwinSettings>().optimum_start_command, settings.command);
+  nlohmann::json one_string = json;
+  one_string["optimum_start_command"] = "python3  fast.py --coarse";
+  EXPECT_EQ(one_string.get<ExternalTwinSettings>().optimum_start_command,
+            (std::vector<std::string>{"python3", "fast.py", "--coarse"}));
+  settings.optimum_budget = 0;
+  EXPECT_THAT(settings.validate().value_or(""),
+              HasSubstr("optimum_start_command: value is [python3, "));
+  EXPECT_THAT(settings.validate().value_or(""),
+              HasSubstr("needs a budgeted search (optimum_budget > 0 = 0)"));
+}
+
 // optimum_method "least_squares": the program's key points' deviations (the minimal twin
 // answers its 4), Levenberg–Marquardt on them. Its deviations are affine in u, so the first step
 // lands on the optimum; the restarts, seeded by optimum_seed and the assembly, come back to it.

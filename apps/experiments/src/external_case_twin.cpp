@@ -53,6 +53,21 @@ std::unique_ptr<ExternalTwinBackend> make_backend(const ExternalTwinSettings& se
   return backend;
 }
 
+// The start twin of `settings` (optimum_start_command): the same assemblies, locators, bounds
+// and pool, searched in full; null without one.
+std::unique_ptr<ExternalCaseTwin> make_start_twin(const ExternalTwinSettings& settings) {
+  require_valid("external_twin", settings);
+  if (settings.optimum_start_command.empty()) return nullptr;
+  ExternalTwinSettings start = settings;
+  start.command = settings.optimum_start_command;
+  start.optimum_start_command.clear();
+  start.optimum_budget = 0;
+  start.optimum_method = "bobyqa";
+  start.key_points = 0;
+  start.optima_file.clear();
+  return std::make_unique<ExternalCaseTwin>(start);
+}
+
 }  // namespace
 
 nlohmann::json ExternalCaseTwin::assembly_json(const AssemblyId& assembly) const {
@@ -66,6 +81,7 @@ nlohmann::json ExternalCaseTwin::assembly_json(const AssemblyId& assembly) const
 ExternalCaseTwin::ExternalCaseTwin(const ExternalTwinSettings& settings,
                                    const ExternalTwinBackendFactory& backend)
     : backend_(make_backend(settings, backend)),
+      start_twin_(make_start_twin(settings)),
       lower_parts_(settings.lower_parts),
       global_evaluations_(settings.optimum_global_evaluations),
       local_evaluations_(settings.optimum_local_evaluations),
@@ -124,6 +140,12 @@ void ExternalCaseTwin::search_pairs(SearchedOptima& pairs, const FoundPairs& fou
   };
   if (budget_ == 0) {
     search_all(missing(-1), from_centre, global_evaluations_, local_evaluations_, pairs, found);
+    return;
+  }
+  if (start_twin_) {
+    search_all(
+        missing(-1), [&](const AssemblyId& assembly) { return start_twin_->optimum(assembly); }, 0,
+        budget_, pairs, found);
     return;
   }
   // Budgeted: the first row and column from the centre, then the others from the additive warm
@@ -287,6 +309,9 @@ AssemblyId ExternalCaseTwin::add_scanned(const nlohmann::json& parts,
     require_finite("known.quality", known->quality);
     optimum = known->control;
     quality = known->quality;
+  } else if (start_twin_) {
+    const VectorX start = start_twin_->optimum(start_twin_->add_scanned(parts));
+    cost = search(0, true, {{"parts", parts}}, start, 0, budget_, optimum, quality);
   } else {
     const VectorX centre = 0.5 * (lower_bounds() + upper_bounds());
     cost = budget_ == 0

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "twincal/controllers/least_squares_search.hpp"
@@ -30,6 +31,21 @@ std::optional<std::string> box_problem(const std::vector<std::string>& locators,
     }
   }
   return std::nullopt;
+}
+
+// A command: a list of arguments, or one string split at blanks (no quoting: the list form
+// for arguments with blanks).
+std::vector<std::string> command_of(const nlohmann::json& value) {
+  if (!value.is_string()) return value.get<std::vector<std::string>>();
+  std::vector<std::string> command;
+  const std::string text = value.get<std::string>();
+  std::size_t begin = text.find_first_not_of(' ');
+  while (begin != std::string::npos) {
+    const std::size_t end = text.find(' ', begin);
+    command.push_back(text.substr(begin, end - begin));
+    begin = text.find_first_not_of(' ', end);
+  }
+  return command;
 }
 
 }  // namespace
@@ -67,6 +83,13 @@ std::optional<std::string> ExternalTwinSettings::validate() const {
                    optimum_method,
                    "least_squares needs a program that answers its key points' deviations "
                    "(key_points >= 1)"),
+       rule::check(optimum_start_command.empty() ||
+                       (optimum_budget > 0 && !optimum_start_command.front().empty()),
+                   "optimum_start_command",
+                   fmt::format("[{}]", fmt::join(optimum_start_command, ", ")),
+                   "must be empty or name a program, and needs a budgeted search "
+                   "(optimum_budget > 0 = {})",
+                   optimum_budget),
        rule::at_least("timeout_ms", timeout_ms, Index{1}),
        rule::at_least("startup_grace_ms", startup_grace_ms, Index{0})});
 }
@@ -97,6 +120,7 @@ void to_json(nlohmann::json& json, const ExternalTwinSettings& settings) {
           {"optimum_method", settings.optimum_method},
           {"optimum_seed", settings.optimum_seed},
           {"key_points", settings.key_points},
+          {"optimum_start_command", settings.optimum_start_command},
           {"optima_file", settings.optima_file}};
 }
 
@@ -112,6 +136,7 @@ nlohmann::json result_defining_json(const ExternalTwinSettings& settings) {
     json.erase("key_points");
     json.erase("optimum_seed");
   }
+  if (settings.optimum_start_command.empty()) json.erase("optimum_start_command");
   return json;
 }
 
@@ -126,20 +151,9 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
     const std::string field = "external_twin." + key;
     try {
       if (key == "command") {
-        // Also one string, split at blanks (no quoting: use the list form for arguments with
-        // blanks).
-        if (value.is_string()) {
-          read.command.clear();
-          const std::string text = value.get<std::string>();
-          std::size_t begin = text.find_first_not_of(' ');
-          while (begin != std::string::npos) {
-            const std::size_t end = text.find(' ', begin);
-            read.command.push_back(text.substr(begin, end - begin));
-            begin = text.find_first_not_of(' ', end);
-          }
-        } else {
-          read.command = value.get<std::vector<std::string>>();
-        }
+        read.command = command_of(value);
+      } else if (key == "optimum_start_command") {
+        read.optimum_start_command = command_of(value);
       } else if (key == "locators") {
         read.locators = value.get<std::vector<std::string>>();
       } else if (key == "lower_bounds") {
@@ -176,7 +190,7 @@ void from_json(const nlohmann::json& json, ExternalTwinSettings& settings) {
                                "locators, lower_bounds, upper_bounds, upper_parts, lower_parts, "
                                "workers, timeout_ms, startup_grace_ms, optimum_global_evaluations, "
                                "optimum_local_evaluations, optimum_budget, optimum_method, "
-                               "optimum_seed, key_points, optima_file]",
+                               "optimum_seed, key_points, optimum_start_command, optima_file]",
                                field));
       }
     } catch (const nlohmann::json::exception& error) {

@@ -5,7 +5,8 @@
 /// on a program's twin as on the built-in ones. Qualities go through an ExternalTwinPool (a batch
 /// spread over the workers, failures retried once); u0(x) and z*(x) of every assembly are
 /// searched once, at construction, with NLopt from the centre of the bounds — one assembly per
-/// worker at a time, so N workers search N assemblies at once.
+/// worker at a time, so N workers search N assemblies at once — or, with a budget, from a start
+/// (the additive warm start, or a fast start twin's own optimum: optimum_start_command).
 ///
 /// Scanned assemblies. Besides its upper_parts × lower_parts pairs, the twin takes assemblies
 /// given by their scanned parts (any JSON, e.g. a cell's measurements): add_scanned() registers
@@ -89,7 +90,8 @@ class ExternalCaseTwin {
   [[nodiscard]] double optimal_quality(const AssemblyId& assembly) const {
     return optimal_qualities_(position(assembly));
   }
-  /// Registers the assembly of scanned `parts` and searches its optimum with worker 0, or takes
+  /// Registers the assembly of scanned `parts` and searches its optimum (from the start twin's,
+  /// which registers them too, where there is one), or takes
   /// `known` (what an earlier search found, e.g. from a history) without a search; parts equal
   /// (as JSON) to registered ones give their id again. Not for use concurrent with other calls.
   /// @throws ExternalTwinError when the program fails (after the pool's retry);
@@ -111,6 +113,11 @@ class ExternalCaseTwin {
   /// Requests the optimum searches made: one per evaluation for BOBYQA, one per batch (round of
   /// the twin's latency) for the trust region and least squares.
   [[nodiscard]] std::uint64_t search_requests() const noexcept { return search_cost_.requests; }
+  /// Evaluations of the start twin (external_twin.optimum_start_command) in the full searches
+  /// of the optima that started this twin's searches; 0 without one.
+  [[nodiscard]] std::uint64_t start_search_evaluations() const noexcept {
+    return start_twin_ ? start_twin_->search_evaluations() : 0;
+  }
   /// Where the evaluations run (an ExternalTwinPool unless another backend was made).
   [[nodiscard]] const ExternalTwinBackend& backend() const noexcept { return *backend_; }
 
@@ -149,6 +156,8 @@ class ExternalCaseTwin {
                   Index local_evaluations, SearchedOptima& pairs, const FoundPairs& found);
 
   std::unique_ptr<ExternalTwinBackend> backend_;
+  // The fast twin whose optima start the budgeted searches (optimum_start_command), or none.
+  std::unique_ptr<ExternalCaseTwin> start_twin_;
   Index lower_parts_;
   Index global_evaluations_;
   Index local_evaluations_;

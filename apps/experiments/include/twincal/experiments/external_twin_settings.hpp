@@ -12,7 +12,7 @@
 ///    "startup_grace_ms": 10000,
 ///    "optimum_global_evaluations": 2000, "optimum_local_evaluations": 1000,
 ///    "optimum_budget": 0, "optimum_method": "bobyqa", "optimum_seed": 2023, "key_points": 0,
-///    "optima_file": ""}
+///    "optimum_start_command": [], "optima_file": ""}
 
 #include <cstdint>
 #include <optional>
@@ -63,6 +63,15 @@ struct ExternalTwinSettings {
   /// RandomStream(optimum_seed).substream(<x as the program receives it, compact JSON>), so a
   /// search does not depend on the workers or the order of the searches.
   std::uint64_t optimum_seed = 2023;
+  /// A fast twin of the same assemblies, locators and bounds (argv, as `command`; e.g. the
+  /// influence-coefficient map of a slow solver, docs/calculix.md): with a budgeted search, each
+  /// assembly's u0 is first searched in full on it (optimum_global_evaluations and
+  /// optimum_local_evaluations, on its own pool of `workers` processes), and that optimum starts
+  /// the budgeted search on this twin with B evaluations, the first row and column and scanned
+  /// assemblies too, instead of the additive warm start and 2B from the centre. Empty (the
+  /// default): no start twin. Its evaluations are its own, not counted as this twin's
+  /// (ExternalCaseTwin::start_search_evaluations()).
+  std::vector<std::string> optimum_start_command;
   /// m, the key points whose deviations r(x, u) the program answers when a request asks for
   /// them (Q = ‖r‖ / √m; docs/external.md); 0 for a program that answers qualities only.
   Index key_points = 0;
