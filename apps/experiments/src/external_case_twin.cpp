@@ -54,9 +54,8 @@ std::unique_ptr<ExternalTwinBackend> make_backend(const ExternalTwinSettings& se
 }
 
 // The start twin of `settings` (optimum_start_command): the same assemblies, locators, bounds
-// and pool, searched in full; null without one.
+// and pool, searched in full; null without one. `settings` were validated by make_backend().
 std::unique_ptr<ExternalCaseTwin> make_start_twin(const ExternalTwinSettings& settings) {
-  require_valid("external_twin", settings);
   if (settings.optimum_start_command.empty()) return nullptr;
   ExternalTwinSettings start = settings;
   start.command = settings.optimum_start_command;
