@@ -305,6 +305,9 @@ class ExternalTwin {
   // once; either way it is reaped. Returns how it ended ("exited with status 3").
   std::string stop(bool graceful) const noexcept {
     if (!running()) return "not running";
+    // At once means killed before its input closes: else a child blocked on a read may see the
+    // end of input and exit cleanly first, and the report would depend on that race.
+    if (!graceful) ::kill(-pid_, SIGKILL);
     ::close(socket_);
     socket_ = -1;
     int status = 0;
