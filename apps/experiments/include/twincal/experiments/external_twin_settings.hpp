@@ -66,7 +66,8 @@ struct ExternalTwinSettings {
   /// A fast twin of the same assemblies, locators and bounds (argv, as `command`; e.g. the
   /// influence-coefficient map of a slow solver, docs/calculix.md): with a budgeted search, each
   /// assembly's u0 is first searched in full on it (optimum_global_evaluations and
-  /// optimum_local_evaluations, on its own pool of `workers` processes), and that optimum starts
+  /// optimum_local_evaluations, by one process of its own: a fast twin's searches are quick, its
+  /// construction may not be, and a pool would repeat it per process), and that optimum starts
   /// the budgeted search on this twin with B evaluations, the first row and column and scanned
   /// assemblies too, instead of the additive warm start and 2B from the centre. Empty (the
   /// default): no start twin. Its evaluations are its own, not counted as this twin's
