@@ -53,10 +53,9 @@ std::unique_ptr<ExternalTwinBackend> make_backend(const ExternalTwinSettings& se
   return backend;
 }
 
-// The start twin of `settings` (optimum_start_command): the same assemblies, locators and
-// bounds, searched in full by one process; null without one. One, because a fast twin's
-// searches are quick while its construction (a map built from solver runs) would be repeated by
-// every process of a pool. `settings` were validated by make_backend().
+// The start twin of `settings` (optimum_start_command, whose doc says why one process): the
+// same assemblies, locators and bounds, searched in full; null without one. `settings` were
+// validated by make_backend().
 std::unique_ptr<ExternalCaseTwin> make_start_twin(const ExternalTwinSettings& settings) {
   if (settings.optimum_start_command.empty()) return nullptr;
   ExternalTwinSettings start = settings;
