@@ -8,7 +8,9 @@
 #        OPTIMUM_METHOD=trust_region for the batched u0 search (default bobyqa; docs/external.md),
 #        least_squares or least_squares_speculative on the program's 8 key points' deviations;
 #        OPTIMUM_BUDGET=B (default 98); START_TWIN=secant to start each assembly's search from
-#        the optimum of the secant influence-coefficient map (optimum_start_command)
+#        the optimum of the secant influence-coefficient map (optimum_start_command);
+#        START_TWIN=secant OPTIMUM_METHOD=least_squares OPTIMUM_BUDGET=28 is the fastest measured
+#        (docs/benchmarks.md: 8.5 s per assembly for active at 3 locators with 8 workers)
 #
 # The lap joint with contact and large displacements (the program's default), 2 x 3 parts (6
 # assemblies), the budgeted u0 search of 2 (d + 1)^2 = 98 calls per assembly (OPTIMUM_BUDGET)
