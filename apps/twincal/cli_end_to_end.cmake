@@ -1,8 +1,8 @@
 # End-to-end test of the twincal CLI (ctest apps.cli_end_to_end): a tiny study, an interrupted
 # run resumed, a rerun that skips everything, another thread count, a conflicting config, the
-# summary, every --help, a dry run of every ready-made sweep in apps/sweeps/, and the external
-# case with 1 and 3 worker processes. Results are compared without their wall-time columns.
-#   cmake -DTWINCAL=<twincal> -DWORK_DIR=<scratch> -DSWEEPS_DIR=<apps/sweeps>
+# summary, every --help, and the external case with 1 and 3 worker processes (the ready-made
+# sweeps and configs are dry-run by apps.ready_made_configs, check_configs.cmake). Results are compared without their wall-time columns.
+#   cmake -DTWINCAL=<twincal> -DWORK_DIR=<scratch>
 #         -DEXTERNAL_DIR=<examples/external_twin> -DPYTHON=<python3> -P cli_end_to_end.cmake
 
 file(REMOVE_RECURSE "${WORK_DIR}")
@@ -142,19 +142,7 @@ if(status EQUAL 0 OR NOT err MATCHES "names 2 controllers; rule: trace runs one"
   message(FATAL_ERROR "trace of two controllers was not refused (${status}): ${err}")
 endif()
 
-# 7. The ready-made sweeps are valid (configs, locator sets) and not empty.
-file(GLOB sweeps "${SWEEPS_DIR}/*.json")
-if(NOT sweeps)
-  message(FATAL_ERROR "no sweeps in ${SWEEPS_DIR}")
-endif()
-foreach(sweep IN LISTS sweeps)
-  twincal_ok(sweep --config "${sweep}" --dry-run)
-  if(NOT output MATCHES "[1-9][0-9]* groups, [1-9][0-9]* episodes")
-    message(FATAL_ERROR "dry run of ${sweep} printed:\n${output}")
-  endif()
-endforeach()
-
-# 7b. Configs that once crashed or wrapped: 200 000 levels of nesting (SIGSEGV) and a run count
+# 7. Configs that once crashed or wrapped: 200 000 levels of nesting (SIGSEGV) and a run count
 # whose episodes overflowed ("-2 episodes") are refused with the rule they break.
 string(REPEAT "[" 200000 deep)
 file(WRITE "${WORK_DIR}/deep.json" "{\"case\": ${deep}}")

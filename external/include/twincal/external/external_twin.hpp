@@ -318,12 +318,12 @@ class ExternalTwin {
         std::this_thread::sleep_for(std::chrono::milliseconds{1});
       }
     }
+    // The whole process group: the child if it is still running, and programs it started
+    // (ESRCH where none are left).
+    ::kill(-pid_, SIGKILL);
     if (reaped == 0) {
-      ::kill(-pid_, SIGKILL);  // the whole process group: programs the child started too
       while ((reaped = ::waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {
       }
-    } else {
-      ::kill(-pid_, SIGKILL);  // leftovers of the group, if any (ESRCH otherwise)
     }
     child_groups::remove(pid_);
     pid_ = -1;
