@@ -39,9 +39,9 @@ apps.black_box_targets runs the quadratic, family and fem parts at d = 3 and 12 
 """
 import argparse
 import json
-import shutil
 import math
 import pathlib
+import shutil
 import statistics
 import subprocess
 import sys
@@ -58,29 +58,37 @@ class CellFailed(RuntimeError):
     pass
 
 
-FRESH = False  # --fresh: every cell run anew, not resumed from an earlier build's results
+class Cells:
+    """Runs the cells: one `twincal run` of 10 runs per cell, its results directory under `out`
+    (resumed, or removed first when `fresh`), only for the locator counts `wanted` (None: all)."""
 
+    def __init__(self, twincal, out, fresh, wanted):
+        self.twincal, self.out, self.fresh, self.wanted = twincal, out, fresh, wanted
 
-def run_cell(twincal, out, name, args, config=None):
-    """Runs (or resumes) one `twincal run` and returns its episodes grouped by controller."""
-    directory = out / name
-    if FRESH and directory.exists():
-        shutil.rmtree(directory)
-    command = [str(twincal), "run", "--out", str(directory), "--quiet", "--runs", "10"] + args
-    if config is not None:
-        directory.mkdir(parents=True, exist_ok=True)
-        path = directory.parent / (directory.name + ".config.json")
-        path.write_text(json.dumps(config))
-        command += ["--config", str(path)]
-    if subprocess.run(command, stdout=subprocess.DEVNULL).returncode != 0:
-        raise CellFailed(f"cell {name}: `{' '.join(command)}` failed (its message is above)")
-    summary = json.loads((directory / "summary.json").read_text())
-    by_controller = {}
-    for episode in summary["episodes"]:
-        by_controller.setdefault(episode["controller"], []).append(episode)
-    for episodes in by_controller.values():
-        episodes.sort(key=lambda e: e["run"])
-    return by_controller, summary["groups"][0]
+    def wants(self, d):
+        return self.wanted is None or d in self.wanted
+
+    def run(self, name, args, config=None):
+        """The cell's episodes grouped by controller (each list in run order), and its group."""
+        directory = self.out / name
+        if self.fresh and directory.exists():
+            shutil.rmtree(directory)
+        command = [str(self.twincal), "run", "--out", str(directory), "--quiet", "--runs",
+                   "10"] + args
+        if config is not None:
+            directory.mkdir(parents=True, exist_ok=True)
+            path = directory.parent / (directory.name + ".config.json")
+            path.write_text(json.dumps(config))
+            command += ["--config", str(path)]
+        if subprocess.run(command, stdout=subprocess.DEVNULL).returncode != 0:
+            raise CellFailed(f"cell {name}: `{' '.join(command)}` failed (its message is above)")
+        summary = json.loads((directory / "summary.json").read_text())
+        by_controller = {}
+        for episode in summary["episodes"]:
+            by_controller.setdefault(episode["controller"], []).append(episode)
+        for episodes in by_controller.values():
+            episodes.sort(key=lambda e: e["run"])
+        return by_controller, summary["groups"][0]
 
 
 def median(episodes):
@@ -90,17 +98,39 @@ def median(episodes):
     return statistics.median(kept) if kept else math.nan
 
 
-def count(episodes, key):
-    return sum(1 for e in episodes if (e[key] is not None and e[key] is not False))
+def lost(episodes):
+    return sum(1 for e in episodes if e["lost"])
+
+
+def diverged(episodes):
+    return sum(1 for e in episodes if e["diverged_at"] is not None)
 
 
 def evaluations(episodes):
     return statistics.fmean(e["q_evaluations_per_assembly"] for e in episodes)
 
 
+def budget(d):
+    """Twin evaluations per assembly the study allows at d locators."""
+    return 4 * (d + 1) ** 2
+
+
+def black_box_judgement(runs, d):
+    """The black-box target of one cell: active ≤ ½ baseline and ≤ w = 1 (where it ran and not
+    every run diverged), none lost or diverged, evaluations within budget(d). Returns the
+    figures printed for it and whether it is met."""
+    base, active = median(runs["baseline"]), median(runs["active"])
+    w1 = median(runs["w=1"]) if "w=1" in runs else math.nan
+    figures = {"base": base, "active": active, "w1": w1, "lost": lost(runs["active"]),
+               "diverged": diverged(runs["active"]), "evals": evaluations(runs["active"])}
+    met = (active <= 0.5 * base and (math.isnan(w1) or active <= w1) and figures["lost"] == 0
+           and figures["diverged"] == 0 and figures["evals"] <= budget(d))
+    return figures, met
+
+
 class Table:
     def __init__(self, title, header):
-        self.rows, self.misses = [], 0
+        self.misses = 0
         print(f"\n{title}\n\n| {' | '.join(header)} | met |")
         print("|" + "---|" * (len(header) + 1), flush=True)
 
@@ -109,127 +139,119 @@ class Table:
         print(f"| {' | '.join(cells)} | {'yes' if met else '**no**'} |", flush=True)
 
 
-def family(twincal, out, pairs, dimensions):
+def family(cells, pairs):
     table = Table("Analytic family, strength 1 (active: median, × baseline, lost, diverged; "
                   "evaluations per assembly against 4 (d + 1)²)",
                   ["twin", "d", "models", "pair", "departure", "baseline", "w = 1", "active",
                    "× baseline", "lost", "diverged", "Q-evals"])
     for kind in NONLINEARITIES:
-        for d in [d for d in FAMILY_DIMENSIONS if d in dimensions]:
+        for d in filter(cells.wants, FAMILY_DIMENSIONS):
             for source, config in (("deviations", None), ("Q only", QUALITY_ONLY)):
                 for seed, twin_seed in pairs:
                     controllers = "baseline,active" + (",w=1" if d <= W1_MAX_DIMENSION else "")
                     tag = "dev" if config is None else "q"
-                    runs, group = run_cell(
-                        twincal, out, f"family-{kind}-d{d}-{tag}-{seed}-{twin_seed}",
+                    runs, group = cells.run(
+                        f"family-{kind}-d{d}-{tag}-{seed}-{twin_seed}",
                         ["--case", "analytic", "--locators", "all", "--dimension", str(d),
                          "--nonlinearity", kind, "--strength", "1", "--seed", str(seed),
                          "--twin-seed", str(twin_seed), "--controllers", controllers], config)
-                    base, active = median(runs["baseline"]), median(runs["active"])
-                    w1 = median(runs["w=1"]) if "w=1" in runs else math.inf
-                    w1 = math.inf if math.isnan(w1) else w1  # every w = 1 run diverged
-                    lost, diverged = count(runs["active"], "lost"), count(runs["active"],
-                                                                           "diverged_at")
-                    evals, budget = evaluations(runs["active"]), 4 * (d + 1) ** 2
-                    met = (active <= 0.5 * base and active <= w1 and lost == 0 and diverged == 0
-                           and evals <= budget)
+                    f, met = black_box_judgement(runs, d)
                     table.row([kind, str(d), source, f"{seed}/{twin_seed}",
-                               f"{group['twin']['quadratic_departure']:.2f}", f"{base:.3f}",
-                               "–" if math.isinf(w1) else f"{w1:.3f}", f"{active:.3f}",
-                               f"{active / base:.2f}", str(lost), str(diverged),
-                               f"{evals:.0f} / {budget}"], met)
+                               f"{group['twin']['quadratic_departure']:.2f}", f"{f['base']:.3f}",
+                               "–" if math.isnan(f["w1"]) else f"{f['w1']:.3f}",
+                               f"{f['active']:.3f}", f"{f['active'] / f['base']:.2f}",
+                               str(f["lost"]), str(f["diverged"]),
+                               f"{f['evals']:.0f} / {budget(d)}"], met)
     return table.misses
 
 
-def fem(twincal, out, pairs, dimensions):
+def fem(cells, pairs):
     table = Table("FEM twins with flange contact (10 runs)",
                   ["case", "pair", "baseline", "default", "active", "target", "lost",
                    "Q-evals"])
     for case, locators, d in (("body-contact", "ABC", 3), ("body-contact", "all", 12),
                               ("door-contact", "all", 19)):
-        if d not in dimensions:
+        if not cells.wants(d):
             continue
         for seed, twin_seed in pairs:
-            runs, _ = run_cell(twincal, out, f"fem-{case}-{locators}-{seed}-{twin_seed}",
-                               ["--case", case, "--locators", locators, "--seed", str(seed),
-                                "--twin-seed", str(twin_seed),
-                                "--controllers", "baseline,default,active"])
+            runs, _ = cells.run(f"fem-{case}-{locators}-{seed}-{twin_seed}",
+                                ["--case", case, "--locators", locators, "--seed", str(seed),
+                                 "--twin-seed", str(twin_seed),
+                                 "--controllers", "baseline,default,active"])
             base, active = median(runs["baseline"]), median(runs["active"])
             bound = base + 0.001 if case == "door-contact" else 0.5 * base
-            lost = count(runs["active"], "lost")
-            evals = evaluations(runs["active"])
-            met = active <= bound and lost == 0 and evals <= 4 * (d + 1) ** 2
+            lost_runs, evals = lost(runs["active"]), evaluations(runs["active"])
+            met = active <= bound and lost_runs == 0 and evals <= budget(d)
             table.row([f"{case}/{locators}", f"{seed}/{twin_seed}", f"{base:.4f}",
                        f"{median(runs['default']):.4f}", f"{active:.4f}", f"≤ {bound:.4f}",
-                       str(lost), f"{evals:.0f}"], met)
+                       str(lost_runs), f"{evals:.0f}"], met)
     return table.misses
 
 
-def plant(twincal, out, pairs, dimensions):
+def plant(cells, pairs):
     table = Table("Plant ≠ twin (medians over every run, diverged or not; the mean of active − "
                   "baseline run by run against the baseline's standard deviation over the runs)",
                   ["plant behind twin", "pair", "baseline", "active", "mean excess",
                    "baseline sd", "gain", "active lost", "active diverged"])
-    cells = [(f"body-contact/{loc} behind body/{loc}", f"plant-body-{loc}", d,
-              ["--case", "body", "--plant", "body-contact", "--locators", loc])
-             for loc, d in (("ABC", 3), ("all", 12))]
-    cells.append(("door-contact/all behind door/all", "plant-door-all", 19,
-                  ["--case", "door", "--plant", "door-contact", "--locators", "all"]))
+    plants = [(f"body-contact/{loc} behind body/{loc}", f"plant-body-{loc}", d,
+               ["--case", "body", "--plant", "body-contact", "--locators", loc])
+              for loc, d in (("ABC", 3), ("all", 12))]
+    plants.append(("door-contact/all behind door/all", "plant-door-all", 19,
+                   ["--case", "door", "--plant", "door-contact", "--locators", "all"]))
     for kind in NONLINEARITIES:
         for d in (3, 12):
-            cells.append((f"analytic {kind}, d = {d}, behind the quadratic twin",
-                          f"plant-{kind}-d{d}", d,
-                          ["--case", "analytic", "--locators", "all", "--dimension", str(d),
-                           "--plant-nonlinearity", kind, "--plant-strength", "1"]))
-    for label, name, d, args in cells:
-        if d not in dimensions:
+            plants.append((f"analytic {kind}, d = {d}, behind the quadratic twin",
+                           f"plant-{kind}-d{d}", d,
+                           ["--case", "analytic", "--locators", "all", "--dimension", str(d),
+                            "--plant-nonlinearity", kind, "--plant-strength", "1"]))
+    for label, name, d, args in plants:
+        if not cells.wants(d):
             continue
         for seed, twin_seed in pairs:
-            runs, _ = run_cell(twincal, out, f"{name}-{seed}-{twin_seed}",
-                               args + ["--seed", str(seed), "--twin-seed", str(twin_seed),
-                                       "--controllers", "baseline,active"])
+            runs, _ = cells.run(f"{name}-{seed}-{twin_seed}",
+                                args + ["--seed", str(seed), "--twin-seed", str(twin_seed),
+                                        "--controllers", "baseline,active"])
+            # Every run counts here, diverged or not: the excess is judged run by run.
             base = [e["relative_residual"] for e in runs["baseline"]]
             active = [e["relative_residual"] for e in runs["active"]]
             excess = statistics.fmean(a - b for a, b in zip(active, base))
             spread = statistics.stdev(base)
-            # Every run counts here, diverged or not: the excess is judged run by run.
             gain = 1.0 - statistics.median(active) / statistics.median(base)
             table.row([label, f"{seed}/{twin_seed}", f"{statistics.median(base):.4f}",
                        f"{statistics.median(active):.4f}", f"{excess:+.4f}", f"{spread:.4f}",
-                       f"{100 * gain:+.0f} %", str(count(runs["active"], "lost")),
-                       str(count(runs["active"], "diverged_at"))],
+                       f"{100 * gain:+.0f} %", str(lost(runs["active"])),
+                       str(diverged(runs["active"]))],
                       excess <= spread)
     return table.misses
 
 
-def quadratic(twincal, out, pairs, dimensions):
+def quadratic(cells, pairs):
     table = Table("Quadratic twins (the active controller's first targets)",
                   ["group", "pair", "baseline", "active", "target", "diverged", "Q-evals"])
-    cells = [("body/ABC", 3, ["--case", "body", "--locators", "ABC"], lambda b: 0.30),
-             ("body/all", 12, ["--case", "body", "--locators", "all"], lambda b: 0.5 * b),
-             ("door/all", 19, ["--case", "door", "--locators", "all"], lambda b: b + 0.001)]
-    cells += [(f"analytic d = {d}", d, ["--case", "analytic", "--locators", "all",
-                                        "--dimension", str(d)], lambda b: 0.5 * b)
-              for d in QUADRATIC_DIMENSIONS]
-    for label, d, args, bound_of in cells:
-        if d not in dimensions:
+    groups = [("body/ABC", 3, ["--case", "body", "--locators", "ABC"], lambda b: 0.30),
+              ("body/all", 12, ["--case", "body", "--locators", "all"], lambda b: 0.5 * b),
+              ("door/all", 19, ["--case", "door", "--locators", "all"], lambda b: b + 0.001)]
+    groups += [(f"analytic d = {d}", d, ["--case", "analytic", "--locators", "all",
+                                         "--dimension", str(d)], lambda b: 0.5 * b)
+               for d in QUADRATIC_DIMENSIONS]
+    for label, d, args, bound_of in groups:
+        if not cells.wants(d):
             continue
         for seed, twin_seed in pairs:
             name = "quadratic-" + label.replace("/", "-").replace(" = ", "").replace(" ", "-")
-            runs, _ = run_cell(twincal, out, f"{name}-{seed}-{twin_seed}",
-                               args + ["--seed", str(seed), "--twin-seed", str(twin_seed),
-                                       "--controllers", "baseline,active"])
+            runs, _ = cells.run(f"{name}-{seed}-{twin_seed}",
+                                args + ["--seed", str(seed), "--twin-seed", str(twin_seed),
+                                        "--controllers", "baseline,active"])
             base, active = median(runs["baseline"]), median(runs["active"])
             bound = bound_of(base)
-            diverged = count(runs["active"], "diverged_at")
-            evals = evaluations(runs["active"])
-            met = active <= bound and diverged == 0 and evals <= 4 * (d + 1) ** 2
+            diverged_runs, evals = diverged(runs["active"]), evaluations(runs["active"])
+            met = active <= bound and diverged_runs == 0 and evals <= budget(d)
             table.row([label, f"{seed}/{twin_seed}", f"{base:.4f}", f"{active:.4f}",
-                       f"≤ {bound:.4f}", str(diverged), f"{evals:.1f}"], met)
+                       f"≤ {bound:.4f}", str(diverged_runs), f"{evals:.1f}"], met)
     return table.misses
 
 
-def external(twincal, out, pairs, dimensions):
+def external(cells, pairs):
     """Black boxes written as a user writes them (examples/external_twin): the gap and clamp
     twins, which nothing in the controller was chosen on, each at the twin seeds given here."""
     table = Table("External black-box twins (examples/external_twin; parts 10 × 10, the pair's "
@@ -238,7 +260,7 @@ def external(twincal, out, pairs, dimensions):
                    "lost", "Q-evals"])
     programs = (("gap", "gap_twin.py", 60), ("clamp", "clamp_twin.py", 50))
     for label, program, key_points in programs:
-        for d in [d for d in (3, 12) if d in dimensions]:
+        for d in filter(cells.wants, (3, 12)):
             for source in ("Q only", "deviations"):
                 for seed, twin_seed in pairs:
                     twin = {"command": ["python3", str(ROOT / "examples" / "external_twin" /
@@ -252,19 +274,13 @@ def external(twincal, out, pairs, dimensions):
                     config = {"case": "external", "external_twin": twin, "locators": "all",
                               "controllers": controllers, "seed": seed, "twin_seed": twin_seed}
                     tag = "dev" if source == "deviations" else "q"
-                    runs, _ = run_cell(twincal, out,
-                                       f"external-{label}-d{d}-{tag}-{seed}-{twin_seed}", [],
-                                       config)
-                    base, active = median(runs["baseline"]), median(runs["active"])
-                    w1 = median(runs["w=1"]) if "w=1" in runs else math.inf
-                    w1 = math.inf if math.isnan(w1) else w1
-                    lost = count(runs["active"], "lost")
-                    evals, budget = evaluations(runs["active"]), 4 * (d + 1) ** 2
-                    met = active <= 0.5 * base and active <= w1 and lost == 0 and evals <= budget
-                    table.row([label, str(d), source, f"{seed}/{twin_seed}", f"{base:.3f}",
-                               "–" if math.isinf(w1) else f"{w1:.3f}", f"{active:.3f}",
-                               f"{active / base:.2f}", str(lost), f"{evals:.0f} / {budget}"],
-                              met)
+                    runs, _ = cells.run(f"external-{label}-d{d}-{tag}-{seed}-{twin_seed}", [],
+                                        config)
+                    f, met = black_box_judgement(runs, d)
+                    table.row([label, str(d), source, f"{seed}/{twin_seed}", f"{f['base']:.3f}",
+                               "–" if math.isnan(f["w1"]) else f"{f['w1']:.3f}",
+                               f"{f['active']:.3f}", f"{f['active'] / f['base']:.2f}",
+                               str(f["lost"]), f"{f['evals']:.0f} / {budget(d)}"], met)
     return table.misses
 
 
@@ -304,8 +320,6 @@ def main():
     parser.add_argument("--twincal", type=pathlib.Path,
                         default=ROOT / "build" / "apps" / "twincal" / "twincal")
     args = parser.parse_args()
-    global FRESH
-    FRESH = args.fresh
     parts = args.parts.split(",")
     unknown = [p for p in parts if p not in PARTS]
     if unknown:
@@ -313,9 +327,9 @@ def main():
     if not args.twincal.is_file():
         parser.error(f"--twincal: {args.twincal} is not a file (build the project first)")
     args.out.mkdir(parents=True, exist_ok=True)
-    dimensions = args.dimensions or range(1, 1000)
+    cells = Cells(args.twincal, args.out, args.fresh, args.dimensions)
     try:
-        misses = sum(PARTS[p](args.twincal, args.out, args.pairs, dimensions) for p in parts)
+        misses = sum(PARTS[p](cells, args.pairs) for p in parts)
     except CellFailed as failure:
         print(f"targets.py: {failure}", file=sys.stderr)
         return 2
