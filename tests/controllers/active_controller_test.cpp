@@ -867,7 +867,10 @@ TEST(ActiveController, OptionsNameTheRuleTheyBreak) {
   EXPECT_EQ(ActiveOptions{.relinearization_budget = -1.0}.validate(),
             "relinearization_budget: value is -1; rule: must be finite and >= 0");
   EXPECT_EQ(ActiveOptions{.relinearization_reach = -0.5}.validate(),
-            "relinearization_reach: value is -0.5; rule: must be finite and >= 0");
+            "relinearization_reach: value is -0.5; rule: must be finite and > 0");
+  // At 0 a refitted entry's τ² would be 0, and an entry of τ² = 0 is never refitted again.
+  EXPECT_EQ(ActiveOptions{.relinearization_reach = 0.0}.validate(),
+            "relinearization_reach: value is 0; rule: must be finite and > 0");
   EXPECT_EQ(
       ActiveOptions{.audit_period = 1}.validate(),
       "audit_period and audit_window: values are 1 and 10; rule: audit_period = 0 (no audit), or "

@@ -165,8 +165,11 @@ struct ActiveOptions {
   /// and a reach of 0.5 do better: over five development seed pairs (contact, stiffening, kinks
   /// at d = 3 … 19) the sum of the ratios to the baseline went 19.1 → 16.5 for 1.1–1.8 × the
   /// evaluations, and the held-out shapes at d = 3 from 0.82 / 0.91 to 0.37 / 0.50 × (soft stop /
-  /// cubic); a budget of 3 or a reach of 0 or 0.25 did about as well (docs/reproduction.md,
-  /// "Black-box twins").
+  /// cubic); a budget of 3 or a reach of 0.25 did about as well (docs/reproduction.md,
+  /// "Black-box twins"). The reach is > 0: a refitted entry's τ² is the model's error at
+  /// reach · h from its new centre (the ρ⁴ law), which is 0 at reach 0, and an entry of τ² = 0
+  /// counts as exact, so it would be refitted once and never again (traced: 55 twin evaluations
+  /// per assembly where the default spends 295). Until 2026-12-03 the rule admitted 0.
   double relinearization_budget = 2.0;
   double relinearization_reach = 0.5;
   /// Probes priced by the plant's regret: where the last assembly's model failed its check, a
@@ -281,7 +284,7 @@ struct ActiveOptions {
          rule::positive_finite("covariance_ceiling_fraction", covariance_ceiling_fraction),
          rule::at_least("quadratic_retry", quadratic_retry, Index{1}),
          rule::non_negative_finite("relinearization_budget", relinearization_budget),
-         rule::non_negative_finite("relinearization_reach", relinearization_reach),
+         rule::positive_finite("relinearization_reach", relinearization_reach),
          rule::non_negative_finite("regret_probe", regret_probe),
          rule::at_least("regret_window", regret_window, Index{1}),
          rule::positive_finite("erring_probe_gain", erring_probe_gain),
