@@ -1240,14 +1240,18 @@ TEST(ActiveControllerOnContact, DeclaresFewerChangesWhenItTestsAfterTheRefit) {
 
 // A refitted entry is used within relinearization_reach · h of its new centre, so its τ² is the
 // model's error at that distance, below the one it was added with (at one standard deviation of
-// P); no entry's τ² grows. Contact at d = 3, the paper's drift, 40 assemblies.
+// P); no entry's τ² grows. Contact at d = 3, the paper's drift, 40 assemblies, the fit in units
+// of σz² (min_erring_fit_unit 1): in the plant's units P is a hundred times tighter, the fit
+// moves the entries within their stencils: after 100 assemblies of this scene one entry of the
+// history has been refitted.
 TEST(ActiveControllerOnContact, WeighsARefittedModelByItsErrorWhereTheFitUsesIt) {
   KeyPointScene<ContactNonlinearity> scene(11, 12);
   const auto& twin = scene.twin;
   const std::vector<AssemblyId>& assemblies = scene.assemblies;
   BouncingDrift<3>& drift = scene.drift;
-  KeyPointScene<ContactNonlinearity>::Controller controller(twin,
-                                                            scene.stream.substream("controller"));
+  KeyPointScene<ContactNonlinearity>::Controller controller(
+      twin, scene.stream.substream("controller"),
+      ActiveOptions{.trajectory = {.min_erring_fit_unit = 1.0}});
   std::vector<double> added(40);  // τ² of each assembly's model as it joined the history, by time
   for (Index t = 0; t < std::ssize(added); ++t) {
     const AssemblyId& x = assemblies[static_cast<std::size_t>(t)];

@@ -95,6 +95,8 @@ TEST(ApplyActiveOverrides, SetsEverySettingByItsMembersName) {
       {"trajectory.min_gate_unit", 0.1, [](auto& o) { return o.trajectory.min_gate_unit == 0.1; }},
       {"trajectory.min_erring_gate_unit", 0.1,
        [](auto& o) { return o.trajectory.min_erring_gate_unit == 0.1; }},
+      {"trajectory.min_erring_fit_unit", 0.1,
+       [](auto& o) { return o.trajectory.min_erring_fit_unit == 0.1; }},
       {"trajectory.change_lag", 7, [](auto& o) { return o.trajectory.change_lag == 7; }},
       {"trajectory.change_position_spread", 8.0,
        [](auto& o) { return o.trajectory.change_position_spread == 8.0; }},

@@ -54,7 +54,7 @@ constexpr std::array<OptionField<ActiveOptions>, 28> active_fields{{
     {"change_test_after_refit", &ActiveOptions::change_test_after_refit},
 }};
 
-constexpr std::array<OptionField<ConstantVelocityOptions>, 20> trajectory_fields{{
+constexpr std::array<OptionField<ConstantVelocityOptions>, 21> trajectory_fields{{
     {"initial_position_fraction", &ConstantVelocityOptions::initial_position_fraction},
     {"position_fraction", &ConstantVelocityOptions::position_fraction},
     {"max_position_fraction", &ConstantVelocityOptions::max_position_fraction},
@@ -66,6 +66,7 @@ constexpr std::array<OptionField<ConstantVelocityOptions>, 20> trajectory_fields
     {"max_misfit_scale", &ConstantVelocityOptions::max_misfit_scale},
     {"min_gate_unit", &ConstantVelocityOptions::min_gate_unit},
     {"min_erring_gate_unit", &ConstantVelocityOptions::min_erring_gate_unit},
+    {"min_erring_fit_unit", &ConstantVelocityOptions::min_erring_fit_unit},
     {"change_lag", &ConstantVelocityOptions::change_lag},
     {"change_position_spread", &ConstantVelocityOptions::change_position_spread},
     {"change_velocity_spread", &ConstantVelocityOptions::change_velocity_spread},

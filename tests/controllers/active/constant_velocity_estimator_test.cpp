@@ -330,6 +330,7 @@ struct AfterTurn {
   double error = 0.0;
   double scale = 0.0;
   double unit = 0.0;
+  double fit_unit = 0.0;
 };
 
 // With ChangeTest::after_refit each fit is followed by test_change() (no model is refitted: the
@@ -358,6 +359,7 @@ AfterTurn through_a_turn(
     result.error += (estimator.position() - offset).norm() / 30.0;
   }
   result.scale = estimator.misfit_scale();
+  result.fit_unit = estimator.fit_unit();
   result.unit = test == ConstantVelocityEstimator<3>::ChangeTest::now
                     ? estimator.gate_unit()
                     : estimator.refitted_gate_unit();
@@ -413,6 +415,33 @@ TEST(ConstantVelocityEstimator, AGateInThePlantsOwnUnitsSeesATurnBelowTheNoise) 
   EXPECT_DOUBLE_EQ(in_sigma.unit, 1.0);
   const AfterTurn noisy = after_turn(min_gate_unit, 0.01);
   EXPECT_GT(noisy.unit, 0.4);
+}
+
+// Models that claim an error (τ² = 1e-6) on a noise-free plant whose drift turns back at
+// assembly 40 in residuals far below σz, the change tested after the refit (in the plant's
+// units). Fitted in units of σz² (min_erring_fit_unit 1) the estimate follows what the residuals
+// show only as far as the prior lets it; in the plant's own units (0.01, the default: the
+// innovations' median, fit_unit() at its floor) the error over the 30 assemblies after the turn
+// is less than half. A plant as noisy as σz says keeps the fit's unit near 1, and the two
+// settings then fit alike (within a tenth).
+TEST(ConstantVelocityEstimator, AFitInThePlantsUnitsFollowsWhatTheResidualsShowBelowTheNoise) {
+  using ChangeTest = ConstantVelocityEstimator<3>::ChangeTest;
+  const auto after_turn = [](double min_erring_fit_unit, double noise_sd) {
+    return through_a_turn({.min_erring_fit_unit = min_erring_fit_unit},
+                          Eigen::Vector3d(0.002, -0.004, 0.003), noise_sd, 1e-6, 13,
+                          ChangeTest::after_refit);
+  };
+  constexpr double floor = ConstantVelocityOptions{}.min_erring_fit_unit;
+  const AfterTurn in_sigma = after_turn(1.0, 0.0);
+  const AfterTurn own = after_turn(floor, 0.0);
+  EXPECT_DOUBLE_EQ(in_sigma.fit_unit, 1.0);
+  EXPECT_LT(own.fit_unit, 0.1);
+  EXPECT_GE(own.fit_unit, floor);
+  EXPECT_LT(own.error, 0.5 * in_sigma.error);
+  const AfterTurn noisy_in_sigma = after_turn(1.0, 0.01);
+  const AfterTurn noisy = after_turn(floor, 0.01);
+  EXPECT_GT(noisy.fit_unit, 0.4);
+  EXPECT_NEAR(noisy.error, noisy_in_sigma.error, 0.1 * noisy_in_sigma.error);
 }
 
 // Models that claim an error (τ² = 1e-6) on a noise-free plant whose drift turns back at
@@ -906,6 +935,10 @@ TEST(ConstantVelocityEstimator, OptionsNameTheRuleTheyBreak) {
             "min_erring_gate_unit: value is 0; rule: must lie in (0, 1] (1: in units of the "
             "misfit scale)");
   EXPECT_TRUE(ConstantVelocityOptions{.min_erring_gate_unit = 1.5}.validate().has_value());
+  EXPECT_EQ(ConstantVelocityOptions{.min_erring_fit_unit = 0.0}.validate(),
+            "min_erring_fit_unit: value is 0; rule: must lie in (0, 1] (1: the fit in units of "
+            "σz²)");
+  EXPECT_TRUE(ConstantVelocityOptions{.min_erring_fit_unit = 1.5}.validate().has_value());
   EXPECT_EQ(ConstantVelocityOptions{.max_history = 4}.validate(),
             "max_history: value is 4; rule: must be > change_lag = 6");
   EXPECT_THROW(ConstantVelocityEstimator<3>(Eigen::Vector3d(2.0, 0.0, 2.0), 1e-4),

@@ -37,7 +37,8 @@
 /// model errs, the gate's unit is the plant's own, down to min_gate_unit: a plant measured more
 /// precisely than σz² (the paper's is noise-free) shows a turn of its drift far below σz
 /// (gate_unit()). After a refit (test_change()), where models err, min_erring_gate_unit (0.01 by
-/// default) does the same (refitted_gate_unit()).
+/// default) does the same (refitted_gate_unit()), and the fit itself weighs the assemblies in
+/// the plant's unit, down to min_erring_fit_unit (0.01 by default; fit_unit()).
 ///
 /// Relinearization. A model fitted where the estimate put an assembly is used, after later
 /// fits, where they put it; the owner can refit it there (entry_point(), relinearize()), which
@@ -205,6 +206,11 @@ class ConstantVelocityEstimator {
   [[nodiscard]] double refitted_gate_unit() const noexcept {
     return plant_unit(recent_models_err() ? options_.min_erring_gate_unit : options_.min_gate_unit);
   }
+  /// The unit s of σz² in the fit's weights 1/(s·σz² + τ²), as of the last fit: where one of the
+  /// last misfit_window entries' models erred and ConstantVelocityOptions::min_erring_fit_unit
+  /// < 1, the plant's own, the median innovation ν²/(σz² + τ²) over χ²(1)'s median within
+  /// [min_erring_fit_unit, 1] (1 until half the window is in); 1 elsewhere.
+  [[nodiscard]] double fit_unit() const noexcept { return fit_unit_; }
 
   /// The time of history entry i (0 the oldest).
   [[nodiscard]] Index entry_time(Index i) const noexcept { return time_of(i); }
@@ -340,12 +346,16 @@ class ConstantVelocityEstimator {
   }
 
   // Normalized residuals e_k/σ_k and their Jacobian of the history at `state`; returns the data
-  // cost Σ e_k²/σ_k², σ_k² = σz² + τ_k².
+  // cost Σ e_k²/σ_k², σ_k² = s·σz² + τ_k², s = fit_unit().
   double evaluate(const StateVector& state, Index time, bool jacobian) {
     const Index d = dimension();
     double cost = 0.0;
     for (Index i = 0; i < history_.size; ++i) {
-      const double scale = std::sqrt(history_.weights(slot(i)));
+      const Index k = slot(i);
+      // The fit's weight, 1/(s·σz² + τ²) (fit_unit()); history_.weights keeps 1/(σz² + τ²),
+      // in which the gate and the innovations are read.
+      const double scale =
+          std::sqrt(1.0 / (fit_unit_ * measurement_variance_ + history_.model_variances(k)));
       const double e = scale * residual_at(i, state, time);
       work_.residuals(i) = e;
       cost += e * e;
@@ -451,6 +461,14 @@ class ConstantVelocityEstimator {
   [[nodiscard]] double plant_unit(double floor) const noexcept {
     if (floor >= 1.0) return misfit_unit();
     return std::clamp(innovation_misfit_.unfloored(), floor, 1.0);
+  }
+
+  // fit_unit() for the history as it is now.
+  void update_fit_unit() noexcept {
+    fit_unit_ =
+        options_.min_erring_fit_unit < 1.0 && recent_models_err() && innovation_misfit_.known()
+            ? std::clamp(innovation_misfit_.unfloored(), options_.min_erring_fit_unit, 1.0)
+            : 1.0;
   }
 
   // Whether one of the last misfit_window entries' models erred (τ² > 0).
@@ -686,6 +704,7 @@ class ConstantVelocityEstimator {
 
   ConstantVelocityOptions options_;
   double measurement_variance_;
+  double fit_unit_ = 1.0;  // fit_unit(), set by update_fit_unit()
   VectorX width_;
   // The history, a ring of max_history assemblies starting at history_.head.
   History history_;
@@ -892,6 +911,7 @@ void ConstantVelocityEstimator<N>::reset(Index time, const OffsetVector& positio
   prediction_misfit_.clear();
   innovation_misfit_.clear();
   recent_innovations_.clear();
+  fit_unit_ = 1.0;
   estimate_.changes = 0;
   estimate_.changed = false;
   estimate_.fitted = false;
@@ -978,6 +998,7 @@ void ConstantVelocityEstimator<N>::fit(Index time, ChangeTest test) {
   const Index d = dimension();
   estimate_.changed = false;
   estimate_.change_ratio = std::numeric_limits<double>::quiet_NaN();
+  update_fit_unit();
   shift_prior(time);
   // Warm start: the last estimate moved to `time` with its velocity.
   if (estimate_.fitted) {
@@ -1235,6 +1256,7 @@ void ConstantVelocityEstimator<N>::restore(const nlohmann::json& saved) {
   prediction_misfit_ = std::move(prediction_misfit);
   innovation_misfit_ = std::move(innovation_misfit);
   recent_innovations_ = std::move(recent_innovations);
+  update_fit_unit();  // as the last fit had it: it is the history's and the innovations'
 }
 
 // The run-time size: the ActiveController of the experiments, the CLI, the Python module, the

@@ -108,6 +108,26 @@ struct ConstantVelocityOptions {
   /// keeps the misfit scale: there, without the test after refit, the plant's unit took contact
   /// at d = 19 from 0.16–0.29 to 0.34–0.45 times the baseline. 1: the misfit scale everywhere.
   double min_erring_gate_unit = 0.01;
+  /// Where one of the last misfit_window entries' models erred, the fit weighs each assembly by
+  /// 1/(s·σz² + τ²) instead of 1/(σz² + τ²), s the plant's own unit: the median innovation
+  /// ν²/(σz² + τ²) of the last misfit_window assemblies (each z against the prediction made
+  /// before it joined the fit) over χ²(1)'s median, within [min_erring_fit_unit, 1] (1 until half
+  /// that window is in; ConstantVelocityEstimator::fit_unit()). σz² is the filters' setting, not
+  /// the plant's noise (the paper's plant has none). Where the quality near the optimum moves
+  /// with the offset by less than σz — a user's gap twin with z* ≈ 0.15 mm against the paper's
+  /// σz = 0.01 mm, its innovations at 10⁻³–10⁻¹ σz² — a fit in units of σz² takes 2d = 24
+  /// unknowns at d = 12 from residuals it cannot tell from noise: traced (seed 77, run 1, from
+  /// the deviations), the estimate ran 0.3–1 mm from the offset for the whole run while its
+  /// normalized residuals stayed mostly below 1, and the run was lost. A plant as noisy as σz says
+  /// keeps s near 1. Measured on 2026-12-03 at 0.01 (the floor of min_erring_gate_unit), 0.1
+  /// and 1 (off), in that order: the user's gap and clamp twins at d = 12 (five twin seeds each,
+  /// both ways) lose 0, 5 and 20 of 200 runs, every cell at most 0.27× the baseline at 0.01
+  /// (0.70× off); the user's key-point shapes (d = 3 and 12, nine seed pairs) lose 9, 6 and 3 of
+  /// 1800, their residual at d = 3 up to a fifth higher at 0.01 than off; the door, whose quality
+  /// hardly sees the offset, loses more runs behind contact (75 of 90 at 0.01, 47 off) at a lower
+  /// residual (docs/reproduction.md, "The fit in the plant's own units"). Models that pass their
+  /// checks keep 1/(σz² + τ²): the quadratic twins are unchanged. 1: off.
+  double min_erring_fit_unit = 0.01;
   /// At a change the fit restarts from its estimate of `change_lag` assemblies ago (before the
   /// change could bias it), keeping only the assemblies measured since then.
   Index change_lag = 6;
@@ -179,6 +199,8 @@ struct ConstantVelocityOptions {
          rule::check(min_erring_gate_unit > 0.0 && min_erring_gate_unit <= 1.0,
                      "min_erring_gate_unit", min_erring_gate_unit,
                      "must lie in (0, 1] (1: in units of the misfit scale)"),
+         rule::check(min_erring_fit_unit > 0.0 && min_erring_fit_unit <= 1.0, "min_erring_fit_unit",
+                     min_erring_fit_unit, "must lie in (0, 1] (1: the fit in units of σz²)"),
          rule::check(max_history > change_lag, "max_history", max_history,
                      "must be > change_lag = {}", change_lag),
          rule::at_least("max_iterations", max_iterations, 1),
