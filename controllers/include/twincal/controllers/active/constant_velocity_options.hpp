@@ -115,13 +115,13 @@ struct ConstantVelocityOptions {
   /// that window is in; ConstantVelocityEstimator::fit_unit()). σz² is the filters' setting, not
   /// the plant's noise (the paper's plant has none). Where the quality near the optimum moves
   /// with the offset by less than σz — a user's gap twin with z* ≈ 0.15 mm against the paper's
-  /// σz = 0.01 mm, its innovations at 10⁻³–10⁻¹ σz² — a fit in units of σz² takes 2d = 24
-  /// unknowns at d = 12 from residuals it cannot tell from noise: traced (seed 77, run 1, from
-  /// the deviations), the estimate ran 0.3–1 mm from the offset for the whole run while its
-  /// normalized residuals stayed mostly below 1, and the run was lost. A plant as noisy as σz says
-  /// keeps s near 1. Measured on 2026-12-03 at 0.01 (the floor of min_erring_gate_unit), 0.1
-  /// and 1 (off), in that order: the user's gap and clamp twins at d = 12 (five twin seeds each,
-  /// both ways) lose 0, 5 and 20 of 200 runs, every cell at most 0.27× the baseline at 0.01
+  /// σz = 0.01 mm, its first normalized innovations at 10⁻⁴–10⁻¹ — a fit in units of σz² takes its
+  /// 2d unknowns (24 at d = 12) from residuals it cannot tell from noise: traced (seed 77, run 1,
+  /// from the deviations), the estimate ran 0.2–1.1 mm from the offset from its fifth assembly on
+  /// while its normalized residuals stayed mostly below 1, and the run was lost. A plant as noisy
+  /// as σz says keeps s near 1. Measured on 2026-12-03 at 0.01 (the floor of min_erring_gate_unit),
+  /// 0.1 and 1 (off), in that order: the user's gap and clamp twins at d = 12 (five twin seeds
+  /// each, both ways) lose 0, 5 and 20 of 200 runs, every cell at most 0.27× the baseline at 0.01
   /// (0.70× off); the user's key-point shapes (d = 3 and 12, nine seed pairs) lose 9, 6 and 3 of
   /// 1800, their residual at d = 3 up to a fifth higher at 0.01 than off; the door, whose quality
   /// hardly sees the offset, loses more runs behind contact (75 of 90 at 0.01, 47 off) at a lower
