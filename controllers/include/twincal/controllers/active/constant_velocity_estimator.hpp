@@ -463,12 +463,13 @@ class ConstantVelocityEstimator {
     return std::clamp(innovation_misfit_.unfloored(), floor, 1.0);
   }
 
-  // fit_unit() for the history as it is now.
+  // fit_unit() for the history as it is now: plant_unit() where recent models err (1 until half
+  // its window is in), 1 elsewhere or with the option off (where plant_unit() would give the
+  // misfit scale).
   void update_fit_unit() noexcept {
-    fit_unit_ =
-        options_.min_erring_fit_unit < 1.0 && recent_models_err() && innovation_misfit_.known()
-            ? std::clamp(innovation_misfit_.unfloored(), options_.min_erring_fit_unit, 1.0)
-            : 1.0;
+    fit_unit_ = options_.min_erring_fit_unit < 1.0 && recent_models_err()
+                    ? plant_unit(options_.min_erring_fit_unit)
+                    : 1.0;
   }
 
   // Whether one of the last misfit_window entries' models erred (τ² > 0).
