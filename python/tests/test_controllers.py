@@ -333,6 +333,8 @@ def test_the_active_controller_reports_its_last_step():
     assert step["quadratic"] is True
     assert 1 <= step["history"] <= 20
     assert step["misfit_scale"] >= 1.0 and step["prediction_scale"] >= 1.0
+    # An exact quadratic twin's models never err, so the fit keeps σz² as its unit.
+    assert step["fit_unit"] == 1.0
     # The change gate's reading is consulted on a history this long; above 1 only at a change.
     assert np.isfinite(step["change_ratio"])
     assert (step["change_ratio"] > 1.0) == step["velocity_change"]

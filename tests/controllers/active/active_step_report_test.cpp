@@ -29,6 +29,7 @@ ActiveStepReport filled_report() {
           .change_ratio = 1.75,
           .misfit_scale = 57.5,
           .prediction_scale = 2.25,
+          .fit_unit = 0.0625,
           .history = 25,
           .correction_wanted = true,
           .held_by_innovations = true,
@@ -48,7 +49,7 @@ void expect_same(const ActiveStepReport& read, const ActiveStepReport& written) 
 TEST(ActiveStepReport, ReadsBackEveryFieldThroughJsonText) {
   const ActiveStepReport written = filled_report();
   const nlohmann::json json = nlohmann::json::parse(active_step_report_to_json(written).dump());
-  EXPECT_EQ(json.size(), 23U) << "one key per field";
+  EXPECT_EQ(json.size(), 24U) << "one key per field";
   EXPECT_EQ(json["normalized_innovation"], "inf");
   expect_same(read_active_step_report(json), written);
 }
@@ -60,6 +61,7 @@ TEST(ActiveStepReport, KeepsTheReadingsOfAnEstimatorThatDidNotRunAsNull) {
   EXPECT_TRUE(json["change_ratio"].is_null());
   EXPECT_TRUE(json["misfit_scale"].is_null());
   EXPECT_TRUE(json["prediction_scale"].is_null());
+  EXPECT_TRUE(json["fit_unit"].is_null());
   EXPECT_TRUE(json["normalized_residual"].is_null());
   expect_same(read_active_step_report(json), written);
 }

@@ -752,6 +752,7 @@ class ActiveCalibrationController {
     recent_surprises_[(innovation_count_ - 1) % recent_surprises_.size()] = surprised_;
     step_.misfit_scale = estimator_.misfit_scale();
     step_.prediction_scale = estimator_.prediction_scale();
+    step_.fit_unit = estimator_.fit_unit();
     step_.history = estimator_.history_size();
     mean_ = estimator_.position();
     covariance_ = estimator_.position_covariance();

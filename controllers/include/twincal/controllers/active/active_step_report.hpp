@@ -43,6 +43,10 @@ struct ActiveStepReport {
   /// How badly the estimator predicts the plant (ConstantVelocityEstimator::prediction_scale()):
   /// the do-no-harm audit doubts the estimate from audit_misfit on. NaN in sigma-point mode.
   double prediction_scale = std::numeric_limits<double>::quiet_NaN();
+  /// s, the unit of σz² in the fit's weights 1/(s·σz² + τ²) (ConstantVelocityEstimator::
+  /// fit_unit()): 1 unless recent models erred and the plant's innovations run below σz. NaN in
+  /// sigma-point mode.
+  double fit_unit = std::numeric_limits<double>::quiet_NaN();
   Index history = 0;  ///< assemblies in the estimator's history
   /// The controller meant to apply δû: always in sigma-point mode; with the twin's model, where
   /// the estimator's history shows the offset significantly or a restart set it.
@@ -82,6 +86,7 @@ struct ActiveStepReport {
           {"change_ratio", number_to_json(step.change_ratio)},
           {"misfit_scale", number_to_json(step.misfit_scale)},
           {"prediction_scale", number_to_json(step.prediction_scale)},
+          {"fit_unit", number_to_json(step.fit_unit)},
           {"history", step.history},
           {"correction_wanted", step.correction_wanted},
           {"held_by_innovations", step.held_by_innovations},
@@ -114,6 +119,7 @@ struct ActiveStepReport {
   step.change_ratio = read_double_field(saved, "change_ratio", Values::any);
   step.misfit_scale = read_double_field(saved, "misfit_scale", Values::any);
   step.prediction_scale = read_double_field(saved, "prediction_scale", Values::any);
+  step.fit_unit = read_double_field(saved, "fit_unit", Values::any);
   step.history = json_state::read_integer_field(saved, "history", 0);
   step.correction_wanted = read_bool(saved, "correction_wanted");
   step.held_by_innovations = read_bool(saved, "held_by_innovations");
