@@ -444,6 +444,41 @@ TEST(ConstantVelocityEstimator, AFitInThePlantsUnitsFollowsWhatTheResidualsShowB
   EXPECT_NEAR(noisy.error, noisy_in_sigma.error, 0.1 * noisy_in_sigma.error);
 }
 
+// The plant's unit holds while the fit predicts the plant. Models that claim an error
+// (τ² = 1e-6), a noise-free drift: the fit weighs in the plant's unit (at its floor) until one
+// assembly's quality jumps by 0.1 (ν² ≈ 100 σz², beyond change_gate² · max_misfit_scale = 40).
+// The fits of the change_lag = 6 assemblies from it weigh in σz² (and longer while the innovations
+// the jump left in the estimate stay beyond), then the plant's unit is back. A jump of 0.04
+// (ν² ≈ 16 σz²) leaves the unit at its floor.
+TEST(ConstantVelocityEstimator,
+     AFitInThePlantsUnitsReturnsToSigmaAfterAnInnovationItDidNotPredict) {
+  const auto units = [](double jump) {
+    DriftScenario scenario;
+    ConstantVelocityEstimator<3> estimator = make_estimator();
+    estimator.reset(0, Eigen::Vector3d::Zero());
+    const Eigen::Vector3d velocity(0.002, -0.004, 0.003);
+    std::vector<double> fit_units;
+    for (Index t = 0; t < 45; ++t) {
+      const Eigen::Vector3d u = scenario.next(t, estimator.position());
+      const double z =
+          scenario.plant(u, static_cast<double>(t) * velocity) + (t == 30 ? jump : 0.0);
+      estimator.add(t, scenario.model, u, z, 1e-6);
+      estimator.fit(t + 1);
+      fit_units.push_back(estimator.fit_unit());
+    }
+    return fit_units;
+  };
+  const std::vector<double> jumped = units(0.1);
+  const std::vector<double> small_jump = units(0.04);
+  constexpr double floor = ConstantVelocityOptions{}.min_erring_fit_unit;
+  for (std::size_t t = 13; t < 30; ++t) EXPECT_EQ(jumped[t], floor) << "assembly " << t;
+  for (std::size_t t = 30; t < 36; ++t) {
+    EXPECT_EQ(jumped[t], 1.0) << "assembly " << t;
+    EXPECT_EQ(small_jump[t], floor) << "assembly " << t;
+  }
+  EXPECT_LT(jumped.back(), 1.0);
+}
+
 // Models that claim an error (τ² = 1e-6) on a noise-free plant whose drift turns back at
 // assembly 40 in residuals far below σz. Tested as each fit is made, the gate is in units of
 // the misfit scale (at least 1) and never sees the turn; tested after the refit

@@ -209,7 +209,9 @@ class ConstantVelocityEstimator {
   /// The unit s of σz² in the fit's weights 1/(s·σz² + τ²), as of the last fit: where one of the
   /// last misfit_window entries' models erred and ConstantVelocityOptions::min_erring_fit_unit
   /// < 1, the plant's own, the median innovation ν²/(σz² + τ²) over χ²(1)'s median within
-  /// [min_erring_fit_unit, 1] (1 until half the window is in); 1 elsewhere.
+  /// [min_erring_fit_unit, 1] (1 until half the window is in); 1 elsewhere, and for the
+  /// change_lag assemblies after one whose innovation ν²/(σz² + τ²) exceeded change_gate² ·
+  /// max_misfit_scale.
   [[nodiscard]] double fit_unit() const noexcept { return fit_unit_; }
 
   /// The time of history entry i (0 the oldest).
@@ -464,10 +466,16 @@ class ConstantVelocityEstimator {
   }
 
   // fit_unit() for the history as it is now: plant_unit() where recent models err (1 until half
-  // its window is in), 1 elsewhere or with the option off (where plant_unit() would give the
-  // misfit scale).
+  // its window is in) and the fit predicted the plant of the last change_lag assemblies (no
+  // innovation ν²/(σz² + τ²) beyond change_gate² · max_misfit_scale, what the gate accepts at
+  // its widest); 1 elsewhere or with the option off (where plant_unit() would give the misfit
+  // scale).
   void update_fit_unit() noexcept {
-    fit_unit_ = options_.min_erring_fit_unit < 1.0 && recent_models_err()
+    const double unpredicted =
+        options_.change_gate * options_.change_gate * options_.max_misfit_scale;
+    fit_unit_ = options_.min_erring_fit_unit < 1.0 && recent_models_err() &&
+                        !innovation_misfit_.any_recent_beyond(
+                            static_cast<std::size_t>(options_.change_lag), unpredicted)
                     ? plant_unit(options_.min_erring_fit_unit)
                     : 1.0;
   }
@@ -756,6 +764,14 @@ class ConstantVelocityEstimator {
     [[nodiscard]] double scale() const noexcept { return scale_; }
     /// The median over χ²(1)'s, not floored at 1 (1 until half of n are in).
     [[nodiscard]] double unfloored() const noexcept { return unfloored_; }
+    /// Whether one of the last n entries (at most those in the ring) exceeds `threshold`.
+    [[nodiscard]] bool any_recent_beyond(std::size_t n, double threshold) const noexcept {
+      const std::size_t recent = std::min({ring_.size(), count_, n});
+      for (std::size_t k = 1; k <= recent; ++k) {
+        if (ring_[(count_ - k) % ring_.size()] > threshold) return true;
+      }
+      return false;
+    }
     /// Whether half of n are in: the scale is the entries' median, not the 1 it starts at.
     [[nodiscard]] bool known() const noexcept { return is_known(std::min(ring_.size(), count_)); }
 

@@ -127,6 +127,18 @@ struct ConstantVelocityOptions {
   /// hardly sees the offset, loses more runs behind contact (75 of 90 at 0.01, 47 off) at a lower
   /// residual (docs/reproduction.md, "The fit in the plant's own units"). Models that pass their
   /// checks keep 1/(σz² + τ²): the quadratic twins are unchanged. 1: off.
+  /// The plant's unit holds while the fit predicts the plant: for the change_lag assemblies from
+  /// one whose innovation ν²/(σz² + τ²) exceeds change_gate² · max_misfit_scale (40, beyond what
+  /// the gate accepts in its widest unit), s is 1. Traced on the user's cubic key-point twin at
+  /// d = 3 (seed pair 199/211, run 4): at a turn of the drift, with s at 0.04–0.09 and models
+  /// that claimed τ² of 10⁻⁷–10⁻¹⁴ where the fit used them, the restarted fit bent its six unknowns
+  /// through the few assemblies since the restart, innovations of 10²–10⁴ followed, and the run was
+  /// lost. Measured on 2026-12-03 against s at every fit: the user's shapes lose 5 instead of 9 of
+  /// 1800 runs on the pairs that chose 0.01 and 5 instead of 7 of 800 on four pairs never run
+  /// before, the analytic family runs 7 % and 12 % lower at d = 3 and 6, and the gap and clamp
+  /// twins at d = 12 lose 1 of 200; s = 1 after any innovation beyond change_gate² lost 17 of those
+  /// 200, and s = 1 until 2d innovations have joined since a restart 23 (docs/reproduction.md, "The
+  /// plant's unit holds while the fit predicts the plant").
   double min_erring_fit_unit = 0.01;
   /// At a change the fit restarts from its estimate of `change_lag` assemblies ago (before the
   /// change could bias it), keeping only the assemblies measured since then.
