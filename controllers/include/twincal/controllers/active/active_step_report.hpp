@@ -44,8 +44,8 @@ struct ActiveStepReport {
   /// the do-no-harm audit doubts the estimate from audit_misfit on. NaN in sigma-point mode.
   double prediction_scale = std::numeric_limits<double>::quiet_NaN();
   /// s, the unit of σz² in the fit's weights 1/(s·σz² + τ²) (ConstantVelocityEstimator::
-  /// fit_unit()): 1 unless recent models erred and the plant's innovations run below σz. NaN in
-  /// sigma-point mode.
+  /// fit_unit()): 1 unless recent models erred, the plant's innovations run below σz and none of
+  /// the last change_lag was beyond what the fit predicted. NaN in sigma-point mode.
   double fit_unit = std::numeric_limits<double>::quiet_NaN();
   Index history = 0;  ///< assemblies in the estimator's history
   /// The controller meant to apply δû: always in sigma-point mode; with the twin's model, where

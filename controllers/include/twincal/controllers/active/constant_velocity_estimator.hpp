@@ -210,7 +210,7 @@ class ConstantVelocityEstimator {
   /// last misfit_window entries' models erred and ConstantVelocityOptions::min_erring_fit_unit
   /// < 1, the plant's own, the median innovation ν²/(σz² + τ²) over χ²(1)'s median within
   /// [min_erring_fit_unit, 1] (1 until half the window is in); 1 elsewhere, and for the
-  /// change_lag assemblies after one whose innovation ν²/(σz² + τ²) exceeded change_gate² ·
+  /// change_lag assemblies from one whose innovation ν²/(σz² + τ²) exceeded change_gate² ·
   /// max_misfit_scale.
   [[nodiscard]] double fit_unit() const noexcept { return fit_unit_; }
 

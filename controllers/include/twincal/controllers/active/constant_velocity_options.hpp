@@ -126,7 +126,7 @@ struct ConstantVelocityOptions {
   /// 1800, their residual at d = 3 up to a fifth higher at 0.01 than off; the door, whose quality
   /// hardly sees the offset, loses more runs behind contact (75 of 90 at 0.01, 47 off) at a lower
   /// residual (docs/reproduction.md, "The fit in the plant's own units"). Models that pass their
-  /// checks keep 1/(σz² + τ²): the quadratic twins are unchanged. 1: off.
+  /// checks keep 1/(σz² + τ²): the quadratic twins are unchanged.
   /// The plant's unit holds while the fit predicts the plant: for the change_lag assemblies from
   /// one whose innovation ν²/(σz² + τ²) exceeds change_gate² · max_misfit_scale (40, beyond what
   /// the gate accepts in its widest unit), s is 1. Traced on the user's cubic key-point twin at
@@ -138,7 +138,7 @@ struct ConstantVelocityOptions {
   /// before, the analytic family runs 7 % and 12 % lower at d = 3 and 6, and the gap and clamp
   /// twins at d = 12 lose 1 of 200; s = 1 after any innovation beyond change_gate² lost 17 of those
   /// 200, and s = 1 until 2d innovations have joined since a restart 23 (docs/reproduction.md, "The
-  /// plant's unit holds while the fit predicts the plant").
+  /// plant's unit holds while the fit predicts the plant"). 1: off.
   double min_erring_fit_unit = 0.01;
   /// At a change the fit restarts from its estimate of `change_lag` assemblies ago (before the
   /// change could bias it), keeping only the assemblies measured since then.
